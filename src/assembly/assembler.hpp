@@ -1,0 +1,48 @@
+#pragma once
+/// Global assembly: the only code that maps cells to global dofs. Vectors
+/// are flat and node-major (dof A·D + i), displacements relative to the
+/// model's reference coordinates.
+#include "assembly/block_pattern.hpp"
+#include "fem/element.hpp"
+#include "model/model.hpp"
+
+namespace conserve::assembly {
+
+template <int D>
+class Assembler {
+ public:
+  /// Builds the pattern and the constant mass matrix (consistent or lumped).
+  Assembler(const model::Model<D>& model, bool lumped_mass);
+
+  [[nodiscard]] const model::Model<D>& model() const { return model_; }
+  [[nodiscard]] const BlockPattern<D>& pattern() const { return pattern_; }
+  /// M_AB ⊗ 1, with the pattern of the tangent [kg].
+  [[nodiscard]] const SparseMatrix& mass() const { return mass_; }
+  /// Constant external force from gravity, f_A = Σ_B M_AB g [N].
+  [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
+
+  /// Internal force of the step u_n → u_{n+1} [N].
+  void internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
+                      fem::StressScheme scheme, Eigen::VectorXd& f) const;
+
+  /// Internal force and K = ∂f/∂u_{n+1}; K must have the pattern's layout.
+  void internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
+                              fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const;
+
+  /// Stored energy W(u) = Σ_cells V ρ0Ψ [J].
+  [[nodiscard]] double strain_energy(const Eigen::VectorXd& u) const;
+
+  /// Current positions of a cell's nodes.
+  [[nodiscard]] fem::NodeMatrix<D> cell_positions(int cell, const Eigen::VectorXd& u) const;
+
+ private:
+  [[nodiscard]] const material::Lame& lame(int cell) const {
+    return model_.bodies[model_.cell_body[cell]].lame;
+  }
+  const model::Model<D>& model_;
+  BlockPattern<D> pattern_;
+  SparseMatrix mass_;
+  Eigen::VectorXd gravity_force_;
+};
+
+}  // namespace conserve::assembly

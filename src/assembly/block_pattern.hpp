@@ -1,0 +1,44 @@
+#pragma once
+/// The sparsity pattern of node-block matrices (every node couples D dofs
+/// with every node it shares a cell with), built once, with the positions
+/// each cell writes to, so that assembly is a direct store into the values.
+#include <Eigen/Core>
+#include <utility>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace conserve::assembly {
+
+template <int D>
+class BlockPattern {
+ public:
+  /// `cells`: (D+1) × n_cells node numbers; `extra` couples further node
+  /// pairs (both ways), e.g. for constraints.
+  BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
+               const std::vector<std::pair<int, int>>& extra = {});
+
+  /// A compressed matrix with this pattern and zero values.
+  [[nodiscard]] SparseMatrix make_matrix() const;
+
+  /// Index into the values of the entry (row dof A·D+i, column dof B·D+k),
+  /// where A = cells(a, cell), B = cells(b, cell).
+  [[nodiscard]] int position(int cell, int a, int b, int i, int k) const {
+    const int B = cells_(b, cell);
+    return outer_[B * D + k] + rank_[(cell * (D + 1) + b) * (D + 1) + a] * D + i;
+  }
+
+  /// Index of entry (row dof r, column dof c), or −1 if not in the pattern.
+  [[nodiscard]] int find(int row, int col) const;
+
+  [[nodiscard]] int num_dofs() const { return static_cast<int>(outer_.size()) - 1; }
+
+ private:
+  Eigen::MatrixXi cells_;
+  std::vector<int> outer_;           ///< column starts (CSC)
+  std::vector<int> inner_;           ///< row indices
+  std::vector<std::vector<int>> neighbours_;  ///< sorted neighbour nodes per node
+  std::vector<int> rank_;            ///< per cell, per (b, a): rank of A among B's neighbours
+};
+
+}  // namespace conserve::assembly

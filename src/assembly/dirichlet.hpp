@@ -1,0 +1,31 @@
+#pragma once
+/// Prescribed degrees of freedom in the Newton system: their rows and
+/// columns are replaced by a scaled identity and their residual by zero, so
+/// the increment on them comes out exactly zero and the number of equations
+/// (and the sparsity pattern) stays the same.
+#include <vector>
+
+#include "assembly/block_pattern.hpp"
+
+namespace conserve::assembly {
+
+class DirichletMask {
+ public:
+  DirichletMask() = default;
+  /// `pattern_matrix` fixes the layout the mask will be applied to.
+  DirichletMask(const SparseMatrix& pattern_matrix, const std::vector<int>& dofs);
+
+  /// Zeroes the prescribed rows and columns of K and puts `diagonal` on
+  /// their diagonal (choose it of the order of K's diagonal).
+  void apply(SparseMatrix& K, double diagonal) const;
+  /// Zeroes the prescribed entries of a residual.
+  void apply(Eigen::VectorXd& r) const;
+  [[nodiscard]] const std::vector<int>& dofs() const { return dofs_; }
+
+ private:
+  std::vector<int> dofs_;
+  std::vector<int> zero_positions_;
+  std::vector<int> diagonal_positions_;
+};
+
+}  // namespace conserve::assembly

@@ -1,0 +1,48 @@
+#pragma once
+/// Element kernels of the energy–momentum conserving mid-point step
+/// (ALGORITHM.md §2, paper (20)–(26); Simo & Tarnow 1992).
+///
+/// For a step from positions x_n to x_{n+1} of one cell:
+///   F_{n+½} = ½(F_n + F_{n+1})
+///   conserving: S = ½(S(E_n) + S(E_{n+1}))   (exact energy for SVK)
+///   midpoint:   S = S(E(F_{n+½}))             (negative control)
+///   f_A = V F_{n+½} S ∇N_A
+/// The tangent ∂f/∂x_{n+1} is not symmetric.
+#include "fem/simplex.hpp"
+#include "material/svk.hpp"
+
+namespace conserve::fem {
+
+/// Which algorithmic stress a step uses.
+enum class StressScheme { conserving, midpoint };
+
+/// Positions of one cell at the start and end of a step.
+template <int D>
+struct StepPositions {
+  NodeMatrix<D> x_n;
+  NodeMatrix<D> x_np1;
+};
+
+/// Internal force f (column A = f_A) [N], paper (20) with ALGORITHM §2.
+template <int D>
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame,
+                             const StepPositions<D>& x, StressScheme scheme);
+
+/// Internal force and its tangent K = ∂f/∂x_{n+1}, dof order (A, i) → A·D+i.
+template <int D>
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame,
+                            const StepPositions<D>& x, StressScheme scheme, NodeMatrix<D>& f,
+                            ElementMatrix<D>& K);
+
+/// Stored energy W = V ρ0Ψ(E(F)) of the cell at positions x [J].
+template <int D>
+double strain_energy(const SimplexGeometry<D>& g, const material::Lame& lame,
+                     const NodeMatrix<D>& x);
+
+/// Cauchy stress σ = J⁻¹ F S Fᵀ at positions x, embedded in 3×3 (plane
+/// strain: σ_zz = J⁻¹ λ tr E) [Pa].
+template <int D>
+Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame,
+                   const NodeMatrix<D>& x);
+
+}  // namespace conserve::fem

@@ -1,0 +1,34 @@
+#pragma once
+/// The per-step CSV history: one header line, one row per step, flushed
+/// after every row so that a killed run leaves complete rows behind.
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace conserve::io {
+
+class HistoryWriter {
+ public:
+  /// Creates (truncates) `file` and writes the header. Throws Error.
+  HistoryWriter(const std::filesystem::path& file, std::vector<std::string> columns);
+  /// Writes one row; values.size() must equal the number of columns.
+  /// Doubles are written with 17 significant digits (round-trip exact).
+  void write_row(const std::vector<double>& values);
+
+ private:
+  std::ofstream out_;
+  std::size_t columns_;
+  std::filesystem::path file_{};  ///< for messages
+};
+
+/// Reads a history written by HistoryWriter (for tests and plotting):
+/// header names and rows. Throws InputError on a malformed file.
+struct History {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  [[nodiscard]] std::vector<double> column(const std::string& name) const;
+};
+History read_history(const std::filesystem::path& file);
+
+}  // namespace conserve::io

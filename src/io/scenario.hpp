@@ -1,0 +1,99 @@
+#pragma once
+/// The scenario: everything a run needs, parsed once from a TOML file into
+/// plain structs and validated. Every key is documented in docs/scenario.md.
+#include <Eigen/Core>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace conserve::io {
+
+/// Which algorithmic stress the time step uses.
+enum class StressScheme {
+  conserving,  ///< Simo–Tarnow: S_alg = ½(S(E_n) + S(E_{n+1})), with F_{n+½}
+  midpoint,    ///< plain mid-point S(E(F_{n+½})): does NOT conserve energy (negative control)
+};
+
+enum class MassKind { consistent, lumped };
+
+struct MaterialSpec {
+  double young = 0.0;    ///< Young's modulus E [Pa], > 0
+  double poisson = 0.0;  ///< Poisson's ratio ν, in (-1, 0.5)
+  double density = 0.0;  ///< reference density ρ0 [kg/m³], > 0
+};
+
+/// Where a body's mesh comes from: a file or a built-in generator.
+struct MeshSpec {
+  std::filesystem::path file;  ///< .msh 4.1 file, absolute (resolved against the scenario's folder); empty with a generator
+  std::string group;           ///< cell physical group to take from the file; empty = all cells
+  std::string generator;       ///< generator name (mesh/generators.hpp); empty with a file
+  std::map<std::string, double> parameters;  ///< generator parameters, validated against the catalog
+};
+
+struct BodySpec {
+  std::string name;
+  MeshSpec mesh;
+  MaterialSpec material;
+  Eigen::Vector3d translate = Eigen::Vector3d::Zero();  ///< shifts the reference configuration [m]
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();   ///< uniform initial velocity [m/s]
+  /// Rigid rotation about the body's centre of mass [rad/s]; in 2D only z.
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  /// Initial deformation gradient F0 applied about the body's centroid c:
+  /// u0(X) = (F0 - I)(X - c). Identity = undeformed. 2D uses the upper 2×2.
+  Eigen::Matrix3d initial_deformation = Eigen::Matrix3d::Identity();
+  double thickness = 1.0;  ///< out-of-plane thickness in 2D (plane strain) [m]
+};
+
+/// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for
+/// each listed component i.
+struct BoundarySpec {
+  std::string body;             ///< body name
+  std::string group;            ///< facet group of the body's mesh, or "all" (every node)
+  std::vector<int> components;  ///< prescribed components, 0 = x, 1 = y, 2 = z
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();  ///< [m]
+  Eigen::Vector3d rate = Eigen::Vector3d::Zero();   ///< [m/s]
+};
+
+struct TimeSpec {
+  double step = 0.0;  ///< Δt [s], > 0
+  double end = 0.0;   ///< end time [s], ≥ step
+  StressScheme scheme = StressScheme::conserving;
+  MassKind mass = MassKind::consistent;
+};
+
+struct NewtonSpec {
+  int max_iterations = 20;
+  /// converged when |r| ≤ residual_tolerance · (reference force of the step)
+  double residual_tolerance = 1e-12;
+  /// or when |Δ| ≤ increment_tolerance · (size of the model)
+  double increment_tolerance = 1e-13;
+};
+
+struct OutputSpec {
+  std::filesystem::path directory = "out";  ///< relative to the working directory
+  int vtu_every = 10;     ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
+  int progress_every = 0; ///< 0: a progress line about once a second
+};
+
+struct Scenario {
+  std::filesystem::path file;  ///< where it was read from (for messages)
+  std::string title;
+  int dimension = 3;  ///< 2 (plane strain) or 3
+  TimeSpec time;
+  NewtonSpec newton;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s²]
+  std::vector<BodySpec> bodies;
+  std::vector<BoundarySpec> boundaries;
+  OutputSpec output;
+};
+
+/// Reads and validates a scenario file. Throws InputError
+/// "FILE:LINE: key: what is wrong (what was expected)".
+Scenario read_scenario(const std::filesystem::path& file);
+
+/// Same from text; `file` is used for messages and to resolve mesh paths.
+Scenario parse_scenario(std::string_view text, const std::filesystem::path& file);
+
+}  // namespace conserve::io

@@ -1,0 +1,43 @@
+#pragma once
+/// ParaView output: VTU unstructured-grid files and a PVD time series.
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace conserve::io {
+
+/// A named field with `components` values per point or cell, stored
+/// point-major: values[i * components + c].
+struct VtuField {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+
+/// One unstructured grid of simplices.
+struct VtuGrid {
+  Eigen::MatrixXd points;  ///< dim × n (dim 2 is padded with z = 0)
+  Eigen::MatrixXi cells;   ///< (dim+1) × n_cells: triangles or tetrahedra; 2 × n: lines; 1 × n: vertices
+  std::vector<VtuField> point_data;
+  std::vector<VtuField> cell_data;
+};
+
+/// Writes a VTK XML UnstructuredGrid (binary, base64 inline) atomically:
+/// to a temporary file renamed into place. Throws Error on I/O failure.
+void write_vtu(const std::filesystem::path& file, const VtuGrid& grid);
+
+/// A ParaView .pvd collection, rewritten atomically after each added step.
+class PvdWriter {
+ public:
+  explicit PvdWriter(std::filesystem::path file);
+  /// Adds a dataset (path relative to the .pvd's folder) at `time` [s].
+  void add(double time, const std::string& relative_file);
+
+ private:
+  std::filesystem::path file_;
+  std::vector<std::pair<double, std::string>> entries_;
+};
+
+}  // namespace conserve::io

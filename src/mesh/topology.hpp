@@ -1,0 +1,36 @@
+#pragma once
+/// Topological helpers on simplex meshes.
+#include <string>
+
+#include "mesh/mesh.hpp"
+
+namespace conserve::mesh {
+
+/// Boundary facets (faces used by exactly one cell), ordered so that their
+/// normal (right-hand rule in 3D; (t_y, -t_x) for the segment tangent t in
+/// 2D) points out of the cell. dim × n_facets.
+Eigen::MatrixXi boundary_facets(const Mesh& mesh);
+
+/// The sub-mesh made of the cells of group `group` (all cells if `group` is
+/// empty), nodes renumbered, facet groups restricted to facets whose nodes
+/// all belong to it (dropped if empty). Throws InputError if the group does
+/// not exist (message lists the groups there are).
+Mesh extract(const Mesh& mesh, const std::string& group);
+
+/// Signed volume [m³] (3D) or signed area [m²] (2D) of cell `cell`:
+/// positive when the cell is positively oriented.
+double signed_volume(const Mesh& mesh, int cell);
+
+/// How a cell is oriented: positive, inverted (negative signed volume) or
+/// degenerate (|signed volume| ≤ 1e-12 · (longest edge)^dim).
+enum class CellOrientation { positive, inverted, degenerate };
+CellOrientation cell_orientation(const Mesh& mesh, int cell);
+
+/// Total volume [m³] (area [m²] in 2D): the sum of the signed volumes.
+double total_volume(const Mesh& mesh);
+
+/// Throws InputError "NAME: cell K is inverted/degenerate (signed volume V)"
+/// for the first cell whose signed volume is not positive.
+void check_orientation(const Mesh& mesh, const std::string& name);
+
+}  // namespace conserve::mesh

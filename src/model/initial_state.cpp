@@ -1,0 +1,54 @@
+#include "model/initial_state.hpp"
+
+namespace conserve::model {
+
+template <int D>
+State rest_state(const Model<D>& model) {
+  State s;
+  s.u.setZero(model.num_dofs());
+  s.v.setZero(model.num_dofs());
+  return s;
+}
+
+template <int D>
+Vec<D> body_centroid(const Model<D>& model, int body, const Eigen::VectorXd& u) {
+  const Body& b = model.bodies[body];
+  Vec<D> sum = Vec<D>::Zero();
+  double volume = 0.0;
+  for (int c = b.first_cell; c < b.first_cell + b.num_cells; ++c) {
+    fem::NodeMatrix<D> x;
+    for (int a = 0; a <= D; ++a) {
+      const int n = model.cells(a, c);
+      x.col(a) = model.X.col(n) + u.template segment<D>(n * D);
+    }
+    const double v = fem::signed_measure<D>(x);
+    sum += v * x.rowwise().mean();
+    volume += v;
+  }
+  return sum / volume;
+}
+
+template <int D>
+void set_initial_motion(const Model<D>& model, int body, const InitialMotion& motion, State& state) {
+  const Body& b = model.bodies[body];
+  const Mat<D> F0 = motion.deformation.topLeftCorner<D, D>();
+  const Vec<D> c = body_centroid<D>(model, body, state.u);
+  for (int n = b.first_node; n < b.first_node + b.num_nodes; ++n)
+    state.u.template segment<D>(n * D) = (F0 - Mat<D>::Identity()) * (model.X.col(n) - c);
+  const Vec<D> c_def = body_centroid<D>(model, body, state.u);
+  for (int n = b.first_node; n < b.first_node + b.num_nodes; ++n) {
+    Vec3 r = Vec3::Zero();
+    r.head<D>() = model.X.col(n) + state.u.template segment<D>(n * D) - c_def;
+    const Vec3 spin = motion.angular_velocity.cross(r);
+    state.v.template segment<D>(n * D) = motion.velocity.head<D>() + spin.head<D>();
+  }
+}
+
+template State rest_state<2>(const Model<2>&);
+template State rest_state<3>(const Model<3>&);
+template Vec<2> body_centroid<2>(const Model<2>&, int, const Eigen::VectorXd&);
+template Vec<3> body_centroid<3>(const Model<3>&, int, const Eigen::VectorXd&);
+template void set_initial_motion<2>(const Model<2>&, int, const InitialMotion&, State&);
+template void set_initial_motion<3>(const Model<3>&, int, const InitialMotion&, State&);
+
+}  // namespace conserve::model

@@ -1,0 +1,58 @@
+#include "model/model.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <numeric>
+
+#include "core/error.hpp"
+
+namespace conserve::model {
+
+template <int D>
+Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
+               const material::Lame& lame, double density, double thickness) {
+  if (mesh.dim != D)
+    throw InputError(fmt::format("body '{}': mesh is {}D but the scenario is {}D", name, mesh.dim, D));
+  Body body{name, model.num_nodes(), mesh.num_nodes(), model.num_cells(), mesh.num_cells(), lame, density, {}};
+  model.X.conservativeResize(D, body.first_node + body.num_nodes);
+  model.X.rightCols(body.num_nodes) = mesh.points.topRows(D);
+  model.cells.conservativeResize(D + 1, body.first_cell + body.num_cells);
+  model.cells.rightCols(body.num_cells) = mesh.cells.array() + body.first_node;
+  for (int c = 0; c < body.num_cells; ++c) {
+    fem::NodeMatrix<D> Xc;
+    for (int a = 0; a <= D; ++a) Xc.col(a) = model.X.col(model.cells(a, body.first_cell + c));
+    const double measure = fem::signed_measure<D>(Xc);
+    if (!(measure > 0.0))
+      throw InputError(fmt::format("body '{}': cell {} is {} (signed volume {:.3e})", name, c,
+                                   measure < 0.0 ? "inverted" : "degenerate", measure));
+    model.geometry.push_back(fem::simplex_geometry<D>(Xc, thickness));
+    model.cell_body.push_back(static_cast<int>(model.bodies.size()));
+  }
+  for (const auto& [group, facets] : mesh.facet_groups)
+    body.facet_groups[group] = facets.facets.array() + body.first_node;
+  model.bodies.push_back(std::move(body));
+  return model.bodies.back();
+}
+
+std::vector<int> group_nodes(const Body& body, const std::string& group) {
+  if (group == "all") {
+    std::vector<int> nodes(body.num_nodes);
+    std::iota(nodes.begin(), nodes.end(), body.first_node);
+    return nodes;
+  }
+  const auto it = body.facet_groups.find(group);
+  if (it == body.facet_groups.end()) {
+    std::string known = "all";
+    for (const auto& [name, facets] : body.facet_groups) known += ", " + name;
+    throw InputError(fmt::format("body '{}' has no group '{}' (groups: {})", body.name, group, known));
+  }
+  std::vector<int> nodes(it->second.data(), it->second.data() + it->second.size());
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
+template Body& add_body<2>(Model<2>&, const mesh::Mesh&, const std::string&, const material::Lame&, double, double);
+template Body& add_body<3>(Model<3>&, const mesh::Mesh&, const std::string&, const material::Lame&, double, double);
+
+}  // namespace conserve::model

@@ -1,0 +1,71 @@
+#pragma once
+/// The discretised problem: all bodies' nodes and cells in one numbering,
+/// materials, constant loads and prescribed displacements. Plain data;
+/// built once (simulation/setup) and read by every layer above.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "fem/simplex.hpp"
+#include "material/svk.hpp"
+#include "mesh/mesh.hpp"
+
+namespace conserve::model {
+
+/// One body: a contiguous range of nodes and of cells.
+struct Body {
+  std::string name;
+  int first_node = 0;
+  int num_nodes = 0;
+  int first_cell = 0;
+  int num_cells = 0;
+  material::Lame lame;
+  double density = 0.0;  ///< [kg/m³]
+  /// Named boundary facet groups, in global node numbers (dim × n).
+  std::map<std::string, Eigen::MatrixXi> facet_groups;
+};
+
+/// Prescribed displacement components: u[dofs[i]](t) = value[i] + rate[i]·t.
+struct Prescribed {
+  std::vector<int> dofs;
+  std::vector<double> value;  ///< [m]
+  std::vector<double> rate;   ///< [m/s]
+};
+
+/// Global degree of freedom of node `node`, component `i` (node-major).
+template <int D>
+constexpr int dof(int node, int i) {
+  return node * D + i;
+}
+
+template <int D>
+struct Model {
+  Eigen::Matrix<double, D, Eigen::Dynamic> X;  ///< reference coordinates, D × n_nodes [m]
+  Eigen::MatrixXi cells;                        ///< (D+1) × n_cells, global node numbers
+  std::vector<fem::SimplexGeometry<D>> geometry;  ///< per cell
+  std::vector<int> cell_body;                   ///< body index per cell
+  std::vector<Body> bodies;
+  Vec<D> gravity = Vec<D>::Zero();              ///< [m/s²]
+  Prescribed prescribed;
+
+  [[nodiscard]] int num_nodes() const { return static_cast<int>(X.cols()); }
+  [[nodiscard]] int num_cells() const { return static_cast<int>(cells.cols()); }
+  [[nodiscard]] int num_dofs() const { return D * num_nodes(); }
+  /// Diagonal of the bounding box of the reference configuration [m].
+  [[nodiscard]] double size() const {
+    return num_nodes() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm() : 0.0;
+  }
+};
+
+/// Appends a body made from `mesh` (already placed). Throws InputError
+/// naming `name` if the mesh's dimension is not D or a cell is inverted or
+/// degenerate. `thickness` [m] is the out-of-plane size in 2D.
+template <int D>
+Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
+               const material::Lame& lame, double density, double thickness);
+
+/// Node numbers (global, sorted, unique) of a body's group; "all" is every
+/// node of the body. Throws InputError listing the groups if unknown.
+std::vector<int> group_nodes(const Body& body, const std::string& group);
+
+}  // namespace conserve::model

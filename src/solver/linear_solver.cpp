@@ -1,0 +1,35 @@
+#include "solver/linear_solver.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace conserve::solver {
+
+bool LinearSolver::same_pattern(const SparseMatrix& A) const {
+  return static_cast<Eigen::Index>(outer_.size()) == A.outerSize() + 1 &&
+         static_cast<Eigen::Index>(inner_.size()) == A.nonZeros() &&
+         std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
+         std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
+}
+
+void LinearSolver::factorize(const SparseMatrix& A) {
+  if (!same_pattern(A)) {
+    lu_.analyzePattern(A);
+    outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+    inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+    ++analyses_;
+  }
+  lu_.factorize(A);
+  if (lu_.info() != Eigen::Success)
+    throw SolverError(fmt::format("the tangent matrix ({} equations) is singular: UMFPACK could not factorise it",
+                                  A.rows()));
+}
+
+void LinearSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  x = lu_.solve(b);
+  if (lu_.info() != Eigen::Success) throw SolverError("UMFPACK solve failed");
+}
+
+}  // namespace conserve::solver

@@ -1,0 +1,27 @@
+#include "time/diagnostics.hpp"
+
+namespace conserve::time {
+
+template <int D>
+Diagnostics diagnostics(const assembly::Assembler<D>& assembler, const model::State& state) {
+  const auto& model = assembler.model();
+  const Eigen::VectorXd p = assembler.mass() * state.v;
+  Diagnostics d;
+  d.kinetic = 0.5 * state.v.dot(p);
+  d.strain = assembler.strain_energy(state.u);
+  d.potential = -assembler.gravity_force().dot(state.u);
+  d.total = d.kinetic + d.strain + d.potential;
+  for (int n = 0; n < model.num_nodes(); ++n) {
+    Vec3 x = Vec3::Zero(), pn = Vec3::Zero();
+    x.head<D>() = model.X.col(n) + state.u.segment<D>(n * D);
+    pn.head<D>() = p.segment<D>(n * D);
+    d.linear += pn;
+    d.angular += x.cross(pn);
+  }
+  return d;
+}
+
+template Diagnostics diagnostics<2>(const assembly::Assembler<2>&, const model::State&);
+template Diagnostics diagnostics<3>(const assembly::Assembler<3>&, const model::State&);
+
+}  // namespace conserve::time

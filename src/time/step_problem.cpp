@@ -1,0 +1,38 @@
+#include "time/step_problem.hpp"
+
+namespace conserve::time {
+
+template <int D>
+StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
+                            fem::StressScheme scheme, const model::State& start, double dt,
+                            Eigen::VectorXd& u_np1, SparseMatrix& K)
+    : assembler_(assembler), mask_(mask), scheme_(scheme), start_(start), dt_(dt), u_np1_(u_np1), K_(K) {
+  const Eigen::VectorXd momentum_term = (2.0 / dt) * (assembler.mass() * start.v);
+  inertia_n_ = momentum_term + assembler.gravity_force();
+  Eigen::VectorXd f_n;
+  assembler.internal_force(start.u, start.u, scheme, f_n);
+  force_scale_ = std::max({momentum_term.norm(), assembler.gravity_force().norm(), f_n.norm()});
+}
+
+template <int D>
+void StepProblem<D>::residual(Eigen::VectorXd& r) {
+  assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_);
+  r = (2.0 / (dt_ * dt_)) * (assembler_.mass() * (u_np1_ - start_.u)) - inertia_n_ + f_int_;
+  mask_.apply(r);
+}
+
+template <int D>
+const SparseMatrix& StepProblem<D>::tangent() {
+  assembler_.internal_force_tangent(start_.u, u_np1_, scheme_, f_int_, K_);
+  const double c = 2.0 / (dt_ * dt_);
+  const SparseMatrix& M = assembler_.mass();
+  Eigen::Map<Eigen::VectorXd>(K_.valuePtr(), K_.nonZeros()) +=
+      c * Eigen::Map<const Eigen::VectorXd>(M.valuePtr(), M.nonZeros());
+  mask_.apply(K_, c * M.diagonal().mean());
+  return K_;
+}
+
+template class StepProblem<2>;
+template class StepProblem<3>;
+
+}  // namespace conserve::time

@@ -1,0 +1,98 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "assembly/assembler.hpp"
+#include "assembly/dirichlet.hpp"
+#include "support/grid_mesh.hpp"
+
+namespace conserve::assembly {
+namespace {
+
+template <int D>
+model::Model<D> small_model() {
+  model::Model<D> m;
+  const auto mesh = D == 3 ? test::box_mesh(3, 2, 2, 0.6, 0.4, 0.4) : test::rectangle_mesh(4, 3, 0.8, 0.6);
+  model::add_body<D>(m, mesh, "a", material::Lame::from_young_poisson(1e5, 0.3), 1200.0, 0.5);
+  model::add_body<D>(m, mesh, "b", material::Lame::from_young_poisson(3e5, 0.2), 800.0, 0.5);
+  return m;
+}
+
+template <int D>
+void check_global_tangent() {
+  const model::Model<D> model = small_model<D>();
+  const Assembler<D> assembler(model, false);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  Eigen::VectorXd u_n(model.num_dofs()), u_np1(model.num_dofs());
+  for (int i = 0; i < model.num_dofs(); ++i) u_n[i] = u(rng), u_np1[i] = u(rng);
+  Eigen::VectorXd f;
+  SparseMatrix K = assembler.pattern().make_matrix();
+  assembler.internal_force_tangent(u_n, u_np1, fem::StressScheme::conserving, f, K);
+  const Eigen::MatrixXd K_dense(K);
+  ASSERT_GT(K_dense.norm(), 1e3);  // non-zero guard
+  Eigen::VectorXd f_check;
+  assembler.internal_force(u_n, u_np1, fem::StressScheme::conserving, f_check);
+  EXPECT_LT((f - f_check).norm(), 1e-12 * f.norm());
+  const double h = 1e-7;
+  double err = 0.0;
+  for (int j = 0; j < model.num_dofs(); ++j) {
+    Eigen::VectorXd up = u_np1, um = u_np1, fp, fm;
+    up[j] += h;
+    um[j] -= h;
+    assembler.internal_force(u_n, up, fem::StressScheme::conserving, fp);
+    assembler.internal_force(u_n, um, fem::StressScheme::conserving, fm);
+    err = std::max(err, ((fp - fm) / (2 * h) - K_dense.col(j)).norm());
+  }
+  EXPECT_LT(err, 1e-6 * K_dense.norm());
+}
+
+TEST(Assembler, GlobalTangentMatchesFiniteDifferences2d) { check_global_tangent<2>(); }
+TEST(Assembler, GlobalTangentMatchesFiniteDifferences3d) { check_global_tangent<3>(); }
+
+template <int D>
+void check_mass(bool lumped) {
+  const model::Model<D> model = small_model<D>();
+  const Assembler<D> assembler(model, lumped);
+  double total = 0.0;
+  for (const auto& g : model.geometry) total += g.volume;
+  const double expected = D * (1200.0 + 800.0) * total / 2.0;  // two equal bodies, D components
+  EXPECT_NEAR(Eigen::MatrixXd(assembler.mass()).sum(), expected, 1e-12 * expected);
+  if (lumped) EXPECT_NEAR(assembler.mass().diagonal().sum(), expected, 1e-12 * expected);
+}
+
+TEST(Assembler, MassTotalIsExact) {
+  check_mass<2>(false);
+  check_mass<2>(true);
+  check_mass<3>(false);
+  check_mass<3>(true);
+}
+
+TEST(Assembler, BodiesAreUncoupled) {
+  const model::Model<3> model = small_model<3>();
+  const Assembler<3> assembler(model, false);
+  const int split = model.bodies[1].first_node * 3;
+  const Eigen::MatrixXd M(assembler.mass());
+  EXPECT_EQ(M.topRightCorner(split, M.cols() - split).norm(), 0.0);
+}
+
+TEST(Dirichlet, MaskedRowsAndColumnsAreIdentity) {
+  const model::Model<2> model = small_model<2>();
+  const Assembler<2> assembler(model, false);
+  SparseMatrix K = assembler.mass();
+  const DirichletMask mask(K, {0, 3, 7});
+  mask.apply(K, 2.5);
+  const Eigen::MatrixXd Kd(K);
+  for (int d : {0, 3, 7}) {
+    Eigen::VectorXd e = Eigen::VectorXd::Unit(K.rows(), d) * 2.5;
+    EXPECT_EQ((Kd.col(d) - e).norm(), 0.0);
+    EXPECT_EQ((Kd.row(d).transpose() - e).norm(), 0.0);
+  }
+  Eigen::VectorXd r = Eigen::VectorXd::Ones(K.rows());
+  mask.apply(r);
+  EXPECT_EQ(r[3], 0.0);
+  EXPECT_EQ(r[4], 1.0);
+}
+
+}  // namespace
+}  // namespace conserve::assembly
