@@ -12,7 +12,10 @@ namespace conserve::mesh {
 /// 3: 4-node tetrahedra). Cells of dimension `dim` become Mesh::cells,
 /// named physical groups of dimension `dim` become cell groups and named
 /// physical groups of dimension `dim-1` (segments / triangles) facet groups.
-/// Lower-dimensional elements outside named groups are ignored. Only nodes
+/// Lower-dimensional elements outside named groups are ignored (a physical
+/// group without a name in $PhysicalNames is named by its number, e.g. "3");
+/// facets of facet groups that lie on the boundary are oriented outward, as
+/// in boundary_facets(). Only nodes
 /// used by cells are kept (renumbered 0..n-1 in file order).
 /// Throws InputError "FILE:LINE: what is wrong" (line of the offending
 /// entry; for binary files the byte offset) on malformed, truncated or

@@ -11,6 +11,11 @@ namespace conserve::mesh {
 /// 2D) points out of the cell. dim × n_facets.
 Eigen::MatrixXi boundary_facets(const Mesh& mesh);
 
+/// Gives each facet of `facets` (dim × n) that is also a facet of
+/// `boundary` (as returned by boundary_facets) that facet's outward node
+/// order. Returns how many facets are not on the boundary (left unchanged).
+int orient_outward(Eigen::MatrixXi& facets, const Eigen::MatrixXi& boundary);
+
 /// The sub-mesh made of the cells of group `group` (all cells if `group` is
 /// empty), nodes renumbered, facet groups restricted to facets whose nodes
 /// all belong to it (dropped if empty). Throws InputError if the group does

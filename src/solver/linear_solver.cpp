@@ -14,6 +14,14 @@ bool LinearSolver::same_pattern(const SparseMatrix& A) const {
          std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
 }
 
+LinearSolver::LinearSolver() {
+  // Newton corrects the solution itself: UMFPACK's iterative refinement
+  // (two extra solves and products per solve by default) is wasted work.
+  lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;
+  lu_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+  lu_.umfpackControl()(UMFPACK_STRATEGY) = UMFPACK_STRATEGY_SYMMETRIC;
+}
+
 void LinearSolver::factorize(const SparseMatrix& A) {
   if (!same_pattern(A)) {
     lu_.analyzePattern(A);

@@ -11,6 +11,7 @@ namespace conserve::solver {
 
 class LinearSolver {
  public:
+  LinearSolver();
   /// Factorises A (re-analysing only if its pattern differs from the last
   /// one). Throws SolverError if A is singular.
   void factorize(const SparseMatrix& A);

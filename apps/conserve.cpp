@@ -1,0 +1,80 @@
+// conserve: energy–momentum conserving finite-element dynamics.
+//   conserve run SCENARIO [-o DIR] [--quiet] [--steps N]
+//   conserve check SCENARIO
+// Every failure is one line on stderr and a non-zero exit code:
+// 1 bad input, 2 bad command line, 3 solver failure, 4 anything else.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "io/scenario.hpp"
+#include "simulation/run.hpp"
+
+namespace {
+
+using conserve::simulation::CheckSummary;
+using conserve::simulation::RunSummary;
+
+void print_summary(const RunSummary& s) {
+  fmt::print("finished {} steps in {:.2f} s ({:.2f} Newton iterations per step, at most {})\n", s.steps,
+             s.wall_seconds, s.mean_newton_iterations, s.max_newton_iterations);
+  fmt::print("relative drift: E {:.2e}  L ({:.2e}, {:.2e}, {:.2e})  J ({:.2e}, {:.2e}, {:.2e})\n", s.energy_drift,
+             s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
+             s.angular_drift.z());
+  fmt::print("output: {}/history.csv, {}/solution.pvd\n", s.output_directory.string(), s.output_directory.string());
+}
+
+void print_check(const std::string& file, const CheckSummary& s) {
+  fmt::print("{}: valid. {}D, {} bodies, {} nodes, {} cells, {} unknowns ({} prescribed), mass {:.6g} kg, {} steps\n",
+             file, s.dimension, s.bodies, s.nodes, s.cells, s.dofs, s.prescribed_dofs, s.total_mass, s.steps);
+}
+
+template <class F>
+int guarded(F&& body) {
+  try {
+    body();
+    return 0;
+  } catch (const conserve::InputError& e) {
+    fmt::print(stderr, "conserve: error: {}\n", e.what());
+    return 1;
+  } catch (const conserve::SolverError& e) {
+    fmt::print(stderr, "conserve: solver failed: {}\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "conserve: error: {}\n", e.what());
+    return 4;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"conserve: energy-momentum conserving finite-element dynamics with contact"};
+  app.set_version_flag("--version", "conserve 0.1.0");
+  app.require_subcommand(1);
+  std::string scenario_file, output_dir;
+  bool quiet = false;
+  int steps = -1;
+  CLI::App* run = app.add_subcommand("run", "run a scenario, writing history.csv and ParaView output");
+  run->add_option("scenario", scenario_file, "scenario file (TOML)")->required();
+  run->add_option("-o,--output", output_dir, "output directory (overrides [output].directory)");
+  run->add_flag("-q,--quiet", quiet, "no progress line");
+  run->add_option("--steps", steps, "stop after this many steps")->check(CLI::NonNegativeNumber);
+  CLI::App* check = app.add_subcommand("check", "validate a scenario (meshes included) without running it");
+  check->add_option("scenario", scenario_file, "scenario file (TOML)")->required();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  return guarded([&] {
+    const conserve::io::Scenario scenario = conserve::io::read_scenario(scenario_file);
+    if (*check) return print_check(scenario_file, conserve::simulation::check(scenario));
+    conserve::simulation::RunOptions options;
+    if (!output_dir.empty()) options.output_directory = output_dir;
+    if (quiet) options.progress = nullptr;
+    if (steps >= 0) options.max_steps = steps;
+    print_summary(conserve::simulation::run(scenario, options));
+  });
+}

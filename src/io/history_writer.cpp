@@ -1,0 +1,103 @@
+/// The per-step CSV history and its reader.
+#include "io/history_writer.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <optional>
+
+#include "core/error.hpp"
+
+namespace conserve::io {
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1) {
+    fields.push_back(line.substr(start, comma - start));
+  }
+  fields.push_back(line.substr(start));
+  return fields;
+}
+
+bool read_line(std::istream& in, std::string& line) {
+  if (!std::getline(in, line)) return false;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return true;
+}
+
+/// The whole field as a double (also "nan", "inf", "-inf"), or nothing.
+std::optional<double> to_double(const std::string& field) {
+  double value = 0.0;
+  const auto* end = field.data() + field.size();
+  const auto [ptr, error] = std::from_chars(field.data(), end, value);
+  if (error != std::errc() || ptr != end || field.empty()) return std::nullopt;
+  return value;
+}
+
+std::vector<double> parse_row(const std::string& line, std::size_t columns, const std::string& where) {
+  const auto fields = split(line);
+  if (fields.size() != columns) {
+    throw InputError(fmt::format("{}: malformed row: {} fields (expected {})", where, fields.size(), columns));
+  }
+  std::vector<double> row;
+  for (const auto& field : fields) {
+    const auto value = to_double(field);
+    if (!value) {
+      throw InputError(fmt::format("{}: malformed row: '{}' is not a number (expected a number)", where, field));
+    }
+    row.push_back(*value);
+  }
+  return row;
+}
+
+}  // namespace
+
+HistoryWriter::HistoryWriter(const std::filesystem::path& file, std::vector<std::string> columns)
+    : out_(file, std::ios::trunc), columns_(columns.size()), file_(file) {
+  if (!out_) throw Error(fmt::format("{}: cannot open for writing", file.string()));
+  for (const auto& name : columns) {
+    if (name.empty() || name.find_first_of(",\r\n") != std::string::npos) {
+      throw Error(
+          fmt::format("{}: bad history column name '{}' (empty or with a comma or line break)", file.string(), name));
+    }
+  }
+  out_ << fmt::format("{}\n", fmt::join(columns, ",")) << std::flush;
+  if (!out_) throw Error(fmt::format("{}: write failed", file.string()));
+}
+
+void HistoryWriter::write_row(const std::vector<double>& values) {
+  if (values.size() != columns_) {
+    throw Error(fmt::format("{}: row of {} values for {} columns", file_.string(), values.size(), columns_));
+  }
+  out_ << fmt::format("{:.17g}\n", fmt::join(values, ",")) << std::flush;
+  if (!out_) throw Error(fmt::format("{}: write failed", file_.string()));
+}
+
+std::vector<double> History::column(const std::string& name) const {
+  for (std::size_t j = 0; j < columns.size(); ++j) {
+    if (columns[j] != name) continue;
+    std::vector<double> values;
+    for (const auto& row : rows) values.push_back(row[j]);
+    return values;
+  }
+  throw InputError(fmt::format("history has no column '{}' (expected one of: {})", name, fmt::join(columns, ", ")));
+}
+
+History read_history(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("{}: cannot open the history file", file.string()));
+  History history;
+  std::string line;
+  if (!read_line(in, line) || line.empty()) {
+    throw InputError(fmt::format("{}:1: no header line (expected comma-separated column names)", file.string()));
+  }
+  history.columns = split(line);
+  for (int number = 2; read_line(in, line); ++number) {
+    history.rows.push_back(parse_row(line, history.columns.size(), fmt::format("{}:{}", file.string(), number)));
+  }
+  return history;
+}
+
+}  // namespace conserve::io

@@ -1,0 +1,90 @@
+/// Scenario parsing: the file, the top level, [time], [newton], [loads] and
+/// [output]. Bodies and boundaries are in scenario_body.cpp.
+#include "io/scenario.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "io/scenario_parts.hpp"
+
+namespace conserve::io {
+namespace {
+
+using detail::Section;
+
+toml::table parse_toml(std::string_view text, const std::string& file) {
+  try {
+    return toml::parse(text, std::string_view(file));
+  } catch (const toml::parse_error& e) {
+    std::string description(e.description());
+    for (auto& c : description) {
+      if (c == '\n' || c == '\r') c = ' ';
+    }
+    const auto& where = e.source().begin;
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file, where.line, where.column, description));
+  }
+}
+
+TimeSpec parse_time(const Section& s) {
+  TimeSpec time;
+  time.step = s.number("step");
+  time.end = s.number("end");
+  if (time.end < time.step) {
+    s.fail("end", fmt::format("{} is smaller than step = {}", time.end, time.step), "end ≥ step");
+  }
+  time.scheme = s.string("scheme") == "midpoint" ? StressScheme::midpoint : StressScheme::conserving;
+  time.mass = s.string("mass") == "lumped" ? MassKind::lumped : MassKind::consistent;
+  return time;
+}
+
+NewtonSpec parse_newton(const Section& s) {
+  NewtonSpec newton;
+  newton.max_iterations = s.integer("max_iterations");
+  newton.residual_tolerance = s.number("residual_tolerance");
+  newton.increment_tolerance = s.number("increment_tolerance");
+  return newton;
+}
+
+OutputSpec parse_output(const Section& s) {
+  OutputSpec output;
+  const auto directory = s.string("directory");
+  if (directory.empty()) s.fail("directory", "is empty", "a folder name");
+  output.directory = directory;
+  output.vtu_every = s.integer("vtu_every");
+  output.progress_every = s.integer("progress_every");
+  return output;
+}
+
+}  // namespace
+
+Scenario parse_scenario(std::string_view text, const std::filesystem::path& file) {
+  detail::Context ctx{file.string()};
+  const auto root = parse_toml(text, ctx.file);
+  const Section top(root, scenario_section(""), "", ctx);
+  Scenario scenario;
+  scenario.file = file;
+  scenario.title = top.string("title");
+  scenario.dimension = ctx.dimension = top.integer("dimension");
+  scenario.time = parse_time(top.table("time"));
+  scenario.newton = parse_newton(top.table("newton"));
+  scenario.gravity = top.table("loads").vector("gravity");
+  scenario.output = parse_output(top.table("output"));
+  scenario.bodies = detail::parse_bodies(top, file);
+  scenario.boundaries = detail::parse_boundaries(top, scenario.bodies);
+  return scenario;
+}
+
+Scenario read_scenario(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    throw InputError(fmt::format("{}: cannot open the scenario file (expected a readable TOML file)", file.string()));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scenario(text.str(), file);
+}
+
+}  // namespace conserve::io

@@ -1,0 +1,94 @@
+/// Scenario parsing: [[body]] with [body.material], and [[boundary]].
+#include <fmt/format.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+
+#include "io/scenario_parts.hpp"
+
+namespace conserve::io::detail {
+namespace {
+
+MaterialSpec parse_material(const Section& s) {
+  MaterialSpec material;
+  material.young = s.number("young");
+  material.poisson = s.number("poisson");
+  material.density = s.number("density");
+  return material;
+}
+
+Eigen::Matrix3d parse_initial_deformation(const Section& s) {
+  const Eigen::Matrix3d f0 = s.matrix("initial_deformation");
+  const double det = f0.determinant();  // the identity-padded 2×2 block in 2D
+  if (!(det > 0.0)) {
+    s.fail("initial_deformation", fmt::format("det F0 = {} is not positive", det),
+           "an invertible, orientation-preserving F0");
+  }
+  return f0;
+}
+
+double parse_thickness(const Section& s) {
+  if (s.dimension() == 3 && s.has("thickness")) {
+    s.fail("thickness", "is only meaningful in 2D", "no thickness with dimension = 3");
+  }
+  return s.number("thickness");
+}
+
+BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file) {
+  BodySpec body;
+  body.name = s.string("name");
+  if (body.name.empty()) s.fail("name", "is empty", "a non-empty name");
+  body.translate = s.vector("translate");
+  body.velocity = s.vector("velocity");
+  body.angular_velocity = s.angular_velocity("angular_velocity");
+  body.initial_deformation = parse_initial_deformation(s);
+  body.thickness = parse_thickness(s);
+  body.material = parse_material(s.table("material"));
+  body.mesh = parse_mesh(s.table("mesh"), scenario_file);
+  return body;
+}
+
+std::string body_names(const std::vector<BodySpec>& bodies) {
+  std::string names;
+  for (const auto& body : bodies) names += (names.empty() ? "" : ", ") + body.name;
+  return names;
+}
+
+BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodies) {
+  BoundarySpec boundary;
+  boundary.body = s.string("body");
+  const bool known =
+      std::any_of(bodies.begin(), bodies.end(), [&](const BodySpec& b) { return b.name == boundary.body; });
+  if (!known) s.fail("body", fmt::format("unknown body '{}'", boundary.body), "one of: " + body_names(bodies));
+  boundary.group = s.string("group");
+  if (boundary.group.empty()) s.fail("group", "is empty", "\"all\" or the name of a facet group");
+  boundary.components = s.components("components");
+  boundary.value = s.vector("value");
+  boundary.rate = s.vector("rate");
+  return boundary;
+}
+
+}  // namespace
+
+std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::path& scenario_file) {
+  std::vector<BodySpec> bodies;
+  const auto tables = top.table_array("body");
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const auto name = tables[i].string("name");
+    const auto earlier = std::find_if(bodies.begin(), bodies.end(), [&](const BodySpec& b) { return b.name == name; });
+    if (earlier != bodies.end()) {
+      tables[i].fail("name", fmt::format("duplicate body name '{}'", name),
+                     fmt::format("a name not used by body[{}]", earlier - bodies.begin()));
+    }
+    bodies.push_back(parse_body(tables[i], scenario_file));
+  }
+  return bodies;
+}
+
+std::vector<BoundarySpec> parse_boundaries(const Section& top, const std::vector<BodySpec>& bodies) {
+  std::vector<BoundarySpec> boundaries;
+  for (const auto& table : top.table_array("boundary")) boundaries.push_back(parse_boundary(table, bodies));
+  return boundaries;
+}
+
+}  // namespace conserve::io::detail

@@ -1,0 +1,129 @@
+/// Scenario parsing: [body.mesh], a mesh file or a generator whose
+/// parameters are checked against mesh::generator_catalog().
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "io/scenario_parts.hpp"
+#include "mesh/generators.hpp"
+
+namespace conserve::io::detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path resolve_mesh_file(const Section& s, const fs::path& scenario_file) {
+  const auto text = s.string("file");
+  if (text.empty()) s.fail("file", "is empty", "the path of a .msh file");
+  fs::path file(text);
+  if (file.is_relative()) file = scenario_file.parent_path() / file;
+  file = fs::absolute(file).lexically_normal();
+  std::error_code error;
+  if (!fs::is_regular_file(file, error)) {
+    s.fail("file", fmt::format("mesh file '{}' does not exist", file.string()),
+           "an existing .msh file, relative to the scenario file's folder");
+  }
+  return file;
+}
+
+/// The keys of `s` other than "generator", in file order.
+std::vector<std::string> keys_in_file_order(const Section& s) {
+  std::vector<std::pair<std::uint32_t, std::string>> keys;
+  for (const auto& [key, node] : s.table()) {
+    if (key != "generator") keys.emplace_back(line_of(node), std::string(key.str()));
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::string> names;
+  for (auto& key : keys) names.push_back(std::move(key.second));
+  return names;
+}
+
+MeshSpec parse_file_mesh(const Section& s, const fs::path& scenario_file) {
+  for (const auto& key : keys_in_file_order(s)) {
+    if (key != "file" && key != "group") {
+      s.fail(key, fmt::format("unknown key '{}'", key), "one of: " + key_names(s.spec()));
+    }
+  }
+  MeshSpec mesh;
+  mesh.file = resolve_mesh_file(s, scenario_file);
+  mesh.group = s.string("group");
+  return mesh;
+}
+
+std::string generator_names(int dim) {
+  std::string names;
+  for (const auto& [name, info] : mesh::generator_catalog()) {
+    if (info.dim == dim) names += (names.empty() ? "" : ", ") + name;
+  }
+  return names;
+}
+
+std::string parameter_names(const mesh::GeneratorInfo& info) {
+  std::string names;
+  for (const auto& p : info.parameters) names += (names.empty() ? "" : ", ") + p.name;
+  return names;
+}
+
+std::string describe(const mesh::GeneratorParameter& p) {
+  return fmt::format("a number{}: {}", p.unit.empty() ? "" : " [" + p.unit + "]", p.doc);
+}
+
+double parameter_value(const Section& s, const std::string& key, const std::string& generator,
+                       const mesh::GeneratorInfo& info) {
+  const auto known = std::find_if(info.parameters.begin(), info.parameters.end(),
+                                  [&](const mesh::GeneratorParameter& p) { return p.name == key; });
+  if (known == info.parameters.end()) {
+    s.fail(key, fmt::format("unknown parameter '{}' of generator '{}'", key, generator),
+           "one of: " + parameter_names(info));
+  }
+  const auto& node = *s.find(key);
+  const auto value = number_value(node);
+  if (!value) s.fail(key, fmt::format("got {}", type_of(node)), describe(*known));
+  if (!std::isfinite(*value)) s.fail(key, fmt::format("{} is not finite", *value), describe(*known));
+  return *value;
+}
+
+std::map<std::string, double> generator_parameters(const Section& s, const std::string& generator,
+                                                   const mesh::GeneratorInfo& info) {
+  std::map<std::string, double> values;
+  for (const auto& key : keys_in_file_order(s)) values[key] = parameter_value(s, key, generator, info);
+  for (const auto& p : info.parameters) {
+    if (values.count(p.name)) continue;
+    if (p.required) s.fail(p.name, fmt::format("missing parameter of generator '{}'", generator), describe(p));
+    values[p.name] = p.default_value;
+  }
+  return values;
+}
+
+MeshSpec parse_generator_mesh(const Section& s) {
+  MeshSpec mesh;
+  mesh.generator = s.string("generator");
+  if (s.has("group")) s.fail("group", "is only allowed with 'file'", "no 'group' with a generator");
+  const auto& catalog = mesh::generator_catalog();
+  const auto it = catalog.find(mesh.generator);
+  const int dim = s.dimension();
+  if (it == catalog.end()) {
+    s.fail("generator", fmt::format("unknown generator '{}'", mesh.generator), "one of: " + generator_names(dim));
+  }
+  if (it->second.dim != dim) {
+    s.fail("generator",
+           fmt::format("generator '{}' makes {}D meshes but dimension = {}", it->first, it->second.dim, dim),
+           fmt::format("a {}D generator, one of: {}", dim, generator_names(dim)));
+  }
+  mesh.parameters = generator_parameters(s, mesh.generator, it->second);
+  return mesh;
+}
+
+}  // namespace
+
+MeshSpec parse_mesh(const Section& s, const fs::path& scenario_file) {
+  const bool file = s.has("file");
+  const bool generator = s.has("generator");
+  if (file && generator) s.fail_table("has both 'file' and 'generator'", "exactly one of them");
+  if (!file && !generator) s.fail_table("has neither 'file' nor 'generator'", "exactly one of them");
+  return file ? parse_file_mesh(s, scenario_file) : parse_generator_mesh(s);
+}
+
+}  // namespace conserve::io::detail

@@ -1,0 +1,181 @@
+#include "mesh/gmsh_mesher.hpp"
+
+#include <fmt/format.h>
+#include <gmsh.h>
+
+#include <algorithm>
+#include <map>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "core/error.hpp"
+#include "mesh/topology.hpp"
+
+namespace conserve::mesh::detail {
+
+namespace {
+
+using Tags = std::vector<std::size_t>;
+
+std::mutex& gmsh_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+/// gmsh::initialize ... gmsh::finalize around one generation.
+class GmshSession {
+ public:
+  GmshSession() {
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+};
+
+int cell_type(int dim) { return dim == 2 ? 2 : 4; }   // 3-node triangle, 4-node tet
+int facet_type(int dim) { return dim == 2 ? 1 : 2; }  // 2-node line, 3-node triangle
+
+EntityShape shape_of(int dim, int tag) {
+  EntityShape s;
+  gmsh::model::occ::getCenterOfMass(dim, tag, s.centre.x(), s.centre.y(), s.centre.z());
+  gmsh::model::getBoundingBox(dim, tag, s.lo.x(), s.lo.y(), s.lo.z(), s.hi.x(), s.hi.y(), s.hi.z());
+  return s;
+}
+
+/// Physical groups: "body" on all cells' entities, the named groups on the
+/// boundary entities the recipe classifies.
+void add_physical_groups(const GmshRecipe& recipe) {
+  gmsh::vectorpair entities;
+  gmsh::model::getEntities(entities, recipe.dim);
+  std::vector<int> body;
+  for (const auto& [d, tag] : entities) body.push_back(tag);
+  gmsh::model::setPhysicalName(recipe.dim, gmsh::model::addPhysicalGroup(recipe.dim, body), "body");
+  gmsh::model::getEntities(entities, recipe.dim - 1);
+  std::map<std::string, std::vector<int>> groups;
+  for (const auto& [d, tag] : entities) {
+    const std::string name = recipe.classify(shape_of(d, tag));
+    if (!name.empty()) groups[name].push_back(tag);
+  }
+  for (const auto& [name, tags] : groups)
+    gmsh::model::setPhysicalName(recipe.dim - 1, gmsh::model::addPhysicalGroup(recipe.dim - 1, tags), name);
+}
+
+void set_mesh_options(double size) {
+  gmsh::option::setNumber("Mesh.MeshSizeMax", size);
+  gmsh::option::setNumber("Mesh.MeshSizeMin", 0.1 * size);
+  gmsh::option::setNumber("Mesh.ElementOrder", 1);
+}
+
+/// Node tags of the elements of type `type` on entity (dim, tag) (tag -1: all).
+Tags element_nodes(int dim, int tag, int type) {
+  std::vector<int> types;
+  std::vector<Tags> element_tags, node_tags;
+  gmsh::model::mesh::getElements(types, element_tags, node_tags, dim, tag);
+  Tags out;
+  for (std::size_t i = 0; i < types.size(); ++i)
+    if (types[i] == type) out.insert(out.end(), node_tags[i].begin(), node_tags[i].end());
+  return out;
+}
+
+/// Mesh points and cells; `index` maps Gmsh node tags to mesh node indices.
+Mesh cells_and_points(const GmshRecipe& recipe, std::unordered_map<std::size_t, int>& index) {
+  Tags tags;
+  std::vector<double> xyz, parametric;
+  gmsh::model::mesh::getNodes(tags, xyz, parametric, -1, -1, false, false);
+  const Tags cell_nodes = element_nodes(recipe.dim, -1, cell_type(recipe.dim));
+  for (const std::size_t tag : cell_nodes) index[tag] = -1;
+  Mesh mesh;
+  mesh.dim = recipe.dim;
+  mesh.points.resize(recipe.dim, static_cast<Eigen::Index>(index.size()));
+  int next = 0;
+  for (std::size_t n = 0; n < tags.size(); ++n) {
+    const auto it = index.find(tags[n]);
+    if (it == index.end()) continue;
+    for (int k = 0; k < recipe.dim; ++k) mesh.points(k, next) = recipe.scale * xyz[3 * n + static_cast<std::size_t>(k)];
+    it->second = next++;
+  }
+  if (next != static_cast<int>(index.size())) throw Error(recipe.name + ": Gmsh returned elements without nodes");
+  const Eigen::Index n_cells = static_cast<Eigen::Index>(cell_nodes.size()) / (recipe.dim + 1);
+  mesh.cells.resize(recipe.dim + 1, n_cells);
+  for (Eigen::Index c = 0; c < n_cells; ++c)
+    for (int i = 0; i <= recipe.dim; ++i)
+      mesh.cells(i, c) = index.at(cell_nodes[static_cast<std::size_t>(c * (recipe.dim + 1) + i)]);
+  return mesh;
+}
+
+/// Flips negatively oriented cells (Gmsh's 2D triangles follow the surface
+/// normal); a degenerate cell is an error.
+void orient_cells(const std::string& name, Mesh& mesh) {
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    const CellOrientation o = cell_orientation(mesh, c);
+    if (o == CellOrientation::inverted) std::swap(mesh.cells(1, c), mesh.cells(2, c));
+    if (o == CellOrientation::degenerate)
+      throw InputError(fmt::format("generator '{}': Gmsh made a degenerate cell (expected a smaller size)", name));
+  }
+}
+
+/// The facet groups Gmsh's physical groups hold, each facet oriented like
+/// the same facet of "boundary" (outward).
+void add_named_groups(const GmshRecipe& recipe, const std::unordered_map<std::size_t, int>& index, Mesh& mesh) {
+  const int dim = recipe.dim;
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, dim - 1);
+  for (const auto& [d, physical] : groups) {
+    std::string name;
+    gmsh::model::getPhysicalName(d, physical, name);
+    std::vector<int> entities, nodes;
+    gmsh::model::getEntitiesForPhysicalGroup(d, physical, entities);
+    for (const int entity : entities)
+      for (const std::size_t tag : element_nodes(d, entity, facet_type(dim))) nodes.push_back(index.at(tag));
+    Eigen::MatrixXi facets =
+        Eigen::Map<const Eigen::MatrixXi>(nodes.data(), dim, static_cast<Eigen::Index>(nodes.size()) / dim);
+    if (orient_outward(facets, mesh.facet_groups.at("boundary").facets) != 0)
+      throw Error(fmt::format("{}: a facet of group '{}' is not on the boundary", recipe.name, name));
+    mesh.facet_groups[name].facets = std::move(facets);
+  }
+}
+
+Mesh generate_locked(const GmshRecipe& recipe) {
+  gmsh::model::add("conserve");
+  recipe.build();
+  gmsh::model::occ::synchronize();
+  add_physical_groups(recipe);
+  set_mesh_options(recipe.size);
+  gmsh::model::mesh::generate(recipe.dim);
+  std::unordered_map<std::size_t, int> index;
+  Mesh mesh = cells_and_points(recipe, index);
+  if (mesh.num_cells() == 0) throw InputError(fmt::format("generator '{}': Gmsh made no cells", recipe.name));
+  orient_cells(recipe.name, mesh);
+  mesh.cell_groups["body"].resize(static_cast<std::size_t>(mesh.num_cells()));
+  for (int c = 0; c < mesh.num_cells(); ++c) mesh.cell_groups["body"][static_cast<std::size_t>(c)] = c;
+  mesh.facet_groups["boundary"].facets = boundary_facets(mesh);
+  add_named_groups(recipe, index, mesh);
+  return mesh;
+}
+
+}  // namespace
+
+Mesh mesh_with_gmsh(const GmshRecipe& recipe) {
+  static constexpr const char* kHint = " (expected a mesh size small enough for the thinnest part)";
+  const std::lock_guard lock(gmsh_mutex());
+  const GmshSession session;
+  try {
+    return generate_locked(recipe);
+  } catch (const conserve::Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("generator '{}': Gmsh failed: {}{}", recipe.name, e.what(), kHint));
+  } catch (const std::string& message) {  // what Gmsh 4.8 throws on errors
+    throw InputError(fmt::format("generator '{}': Gmsh failed: {}{}", recipe.name, message, kHint));
+  } catch (...) {
+    std::string last;
+    gmsh::logger::getLastError(last);
+    throw InputError(
+        fmt::format("generator '{}': Gmsh failed: {}{}", recipe.name, last.empty() ? "unknown error" : last, kHint));
+  }
+}
+
+}  // namespace conserve::mesh::detail

@@ -1,0 +1,37 @@
+#pragma once
+/// Internal to the generators: meshes an OpenCASCADE geometry with the Gmsh
+/// C++ API and turns the result into a Mesh.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+
+#include "mesh/mesh.hpp"
+
+namespace conserve::mesh::detail {
+
+/// A boundary entity (surface in 3D, curve in 2D) of the Gmsh model, in the
+/// model's (normalised) coordinates.
+struct EntityShape {
+  Eigen::Vector3d centre;  ///< centre of mass
+  Eigen::Vector3d lo, hi;  ///< bounding box (may be slightly enlarged by OCC)
+};
+
+/// What to mesh and how.
+struct GmshRecipe {
+  std::string name;  ///< generator name, for messages
+  int dim = 3;
+  /// Adds the OpenCASCADE entities to the (empty, current) model.
+  std::function<void()> build;
+  /// Facet group of a boundary entity ("" = only in "boundary").
+  std::function<std::string(const EntityShape&)> classify;
+  double size = 1.0;   ///< target element size, in model coordinates
+  double scale = 1.0;  ///< model coordinates × scale = mesh coordinates [m]
+};
+
+/// Meshes the recipe (serialised: Gmsh is a global singleton). The result has
+/// cell group "body", facet group "boundary" and the named facet groups, all
+/// facets outward oriented and all cells positively oriented. Throws
+/// InputError if Gmsh fails.
+Mesh mesh_with_gmsh(const GmshRecipe& recipe);
+
+}  // namespace conserve::mesh::detail

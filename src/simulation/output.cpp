@@ -1,0 +1,75 @@
+#include "simulation/output.hpp"
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace conserve::simulation {
+
+std::vector<std::string> history_columns() {
+  return {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
+          "J_x",  "J_y",  "J_z",     "newton_iterations", "residual"};
+}
+
+namespace {
+std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) {
+  std::error_code ec;
+  std::filesystem::create_directories(vtu_every > 0 ? dir / "vtu" : dir, ec);
+  if (ec) throw Error(fmt::format("cannot create output directory {}: {}", dir.string(), ec.message()));
+  return dir;
+}
+}  // namespace
+
+template <int D>
+OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory,
+                              int vtu_every)
+    : assembler_(assembler),
+      directory_(prepared(directory, vtu_every)),
+      vtu_every_(vtu_every),
+      history_(directory / "history.csv", history_columns()) {
+  if (vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
+}
+
+template <int D>
+void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d,
+                            const solver::NewtonReport* report, bool last) {
+  history_.write_row({static_cast<double>(state.step), state.time, d.kinetic, d.strain, d.potential, d.total,
+                      d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z(),
+                      report ? static_cast<double>(report->iterations) : 0.0,
+                      report ? report->final_residual() : 0.0});
+  if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);
+}
+
+template <int D>
+void OutputWriter<D>::write_vtu(const model::State& state) {
+  const auto& model = assembler_.model();
+  io::VtuGrid grid;
+  grid.points = model.X + state.u.reshaped(D, model.num_nodes());
+  grid.cells = model.cells;
+  auto point_vector = [&](const char* name, const Eigen::VectorXd& v) {
+    io::VtuField f{name, 3, std::vector<double>(3 * model.num_nodes(), 0.0)};
+    for (int n = 0; n < model.num_nodes(); ++n)
+      for (int i = 0; i < D; ++i) f.values[3 * n + i] = v[n * D + i];
+    grid.point_data.push_back(std::move(f));
+  };
+  point_vector("displacement", state.u);
+  point_vector("velocity", state.v);
+  io::VtuField stress{"cauchy_stress", 9, {}}, energy{"strain_energy_density", 1, {}}, body{"body", 1, {}};
+  for (int c = 0; c < model.num_cells(); ++c) {
+    const auto& lame = model.bodies[model.cell_body[c]].lame;
+    const fem::NodeMatrix<D> x = assembler_.cell_positions(c, state.u);
+    const Mat3 sigma = fem::cauchy_stress<D>(model.geometry[c], lame, x);
+    stress.values.insert(stress.values.end(), sigma.data(), sigma.data() + 9);
+    energy.values.push_back(fem::strain_energy<D>(model.geometry[c], lame, x) / model.geometry[c].volume);
+    body.values.push_back(model.cell_body[c]);
+  }
+  grid.cell_data = {std::move(stress), std::move(energy), std::move(body)};
+  const std::string name = fmt::format("vtu/step_{:06d}.vtu", state.step);
+  io::write_vtu(directory_ / name, grid);
+  pvd_->add(state.time, name);
+}
+
+template class OutputWriter<2>;
+template class OutputWriter<3>;
+
+}  // namespace conserve::simulation

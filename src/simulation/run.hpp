@@ -1,0 +1,45 @@
+#pragma once
+/// Running a scenario end to end, and checking one without running it.
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "core/types.hpp"
+#include "io/scenario.hpp"
+
+namespace conserve::simulation {
+
+struct RunOptions {
+  std::optional<std::filesystem::path> output_directory;  ///< overrides [output].directory
+  std::FILE* progress = stderr;                           ///< nullptr: silent
+  std::optional<int> max_steps;                           ///< stop early (smoke tests)
+};
+
+/// What a finished run measured.
+struct RunSummary {
+  int steps = 0;
+  double wall_seconds = 0.0;
+  double energy_drift = 0.0;       ///< max |E − E0| / |E0| (or / max(K+W) if E0 = 0)
+  Vec3 linear_drift = Vec3::Zero();   ///< per component, max |L_i − L_i0| / max(|L|, p_ref)
+  Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / max(|J|, j_ref)
+  double mean_newton_iterations = 0.0;
+  int max_newton_iterations = 0;
+  std::filesystem::path output_directory;
+};
+
+/// Runs the scenario, writing history.csv and VTU/PVD output. Throws
+/// InputError on bad input and SolverError when a step does not converge
+/// (the output written up to the last converged step stays).
+RunSummary run(const io::Scenario& scenario, const RunOptions& options);
+
+/// The model a scenario describes, without running it.
+struct CheckSummary {
+  int dimension = 3;
+  int bodies = 0, nodes = 0, cells = 0, dofs = 0, prescribed_dofs = 0, steps = 0;
+  double total_mass = 0.0;  ///< [kg]
+};
+
+/// Validates the scenario fully (meshes made or read, groups resolved).
+CheckSummary check(const io::Scenario& scenario);
+
+}  // namespace conserve::simulation

@@ -1,0 +1,89 @@
+// The program end to end: a run writes its history and ParaView files, the
+// whole pipeline conserves, and every example scenario runs (shortened).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "io/history_writer.hpp"
+#include "support/cli.hpp"
+
+namespace conserve::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const std::string kSpinningBox = R"(title = "spinning, deformed box"
+dimension = 3
+[time]
+step = 0.01
+end = 0.4
+[output]
+vtu_every = 10
+[[body]]
+name = "box"
+velocity = [1.0, 0.5, 0.0]
+angular_velocity = [0.5, 1.0, 3.0]
+initial_deformation = [[1.1, 0.05, 0.0], [0.0, 0.95, 0.0], [0.0, 0.0, 1.0]]
+[body.material]
+young = 5.0e4
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 1.0
+ly = 0.4
+lz = 0.3
+size = 0.2
+)";
+
+TEST(Run, WritesHistoryAndParaViewFilesAndConserves) {
+  const auto dir = scratch("run_box");
+  write_file(dir / "box.toml", kSpinningBox);
+  const CliResult r = run_cli("run box.toml -o result -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("finished 40 steps"));
+  const io::History h = io::read_history(dir / "result/history.csv");
+  ASSERT_EQ(h.rows.size(), 41u);
+  const auto E = h.column("total");
+  const auto Jz = h.column("J_z");
+  double drift = 0.0, j_drift = 0.0;
+  for (std::size_t i = 0; i < E.size(); ++i) {
+    drift = std::max(drift, std::abs(E[i] - E[0]) / std::abs(E[0]));
+    j_drift = std::max(j_drift, std::abs(Jz[i] - Jz[0]) / std::abs(Jz[0]));
+  }
+  std::printf("[ measured ] pipeline run: relative drift E %.2e, J_z %.2e\n", drift, j_drift);
+  EXPECT_LT(drift, 1e-10);
+  EXPECT_LT(j_drift, 1e-10);
+  EXPECT_GT(h.column("newton_iterations")[1], 0.0);
+  for (const char* f : {"step_000000.vtu", "step_000010.vtu", "step_000040.vtu"})
+    EXPECT_TRUE(fs::exists(dir / "result/vtu" / f)) << f;
+  const std::string pvd = slurp(dir / "result/solution.pvd");
+  EXPECT_THAT(pvd, HasSubstr("vtu/step_000040.vtu"));
+  EXPECT_THAT(slurp(dir / "result/vtu/step_000040.vtu"), HasSubstr("cauchy_stress"));
+}
+
+TEST(Run, ProgressLineWhenNotQuiet) {
+  const auto dir = scratch("run_progress");
+  write_file(dir / "box.toml", kSpinningBox);
+  const CliResult r = run_cli("run box.toml -o result --steps 3", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("step 3/3"));
+  EXPECT_THAT(r.err, HasSubstr("ETA"));
+}
+
+// Every scenario under examples/ runs a few steps (a smoke test).
+TEST(Examples, EveryExampleRunsShortened) {
+  int count = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(CONSERVE_SOURCE_DIR) / "examples")) {
+    if (entry.path().extension() != ".toml") continue;
+    const auto dir = scratch("example_" + entry.path().stem().string());
+    const CliResult r = run_cli("run '" + entry.path().string() + "' -o result -q --steps 3", dir);
+    EXPECT_EQ(r.exit_code, 0) << entry.path() << ": " << r.err;
+    EXPECT_TRUE(fs::exists(dir / "result/history.csv")) << entry.path();
+    ++count;
+  }
+  EXPECT_GT(count, 0);
+}
+
+}  // namespace
+}  // namespace conserve::test

@@ -1,0 +1,115 @@
+/// The declared key tables against docs/scenario.md and the struct defaults.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <sstream>
+
+#include "io/scenario.hpp"
+#include "io/scenario_keys.hpp"
+#include "scenario_test_support.hpp"
+
+namespace conserve::io {
+namespace {
+
+std::string docs_text() {
+  std::ifstream in(CONSERVE_SOURCE_DIR "/docs/scenario.md");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// The lines strictly between the marker lines "<!-- BEGIN name -->" and
+/// "<!-- END name -->", without leading and trailing blank lines.
+std::string generated_block(const std::string& docs, const std::string& name) {
+  const auto begin_marker = "<!-- BEGIN " + name + " -->\n";
+  const auto begin = docs.find(begin_marker);
+  const auto end = docs.find("<!-- END " + name + " -->");
+  if (begin == std::string::npos || end == std::string::npos || end < begin) return "(markers not found)";
+  auto block = docs.substr(begin + begin_marker.size(), end - begin - begin_marker.size());
+  block.erase(0, block.find_first_not_of('\n'));
+  block.erase(block.find_last_not_of('\n') + 1);
+  return block + "\n";
+}
+
+TEST(ScenarioDocs, EveryDeclaredKeyIsDocumented) {
+  const auto docs = docs_text();
+  ASSERT_FALSE(docs.empty()) << "docs/scenario.md is missing";
+  for (const auto& section : scenario_sections()) {
+    for (const auto& key : section.keys) {
+      EXPECT_NE(docs.find("`" + std::string(key.name) + "`"), std::string::npos)
+          << "key '" << key.name << "' of [" << section.name << "] is not in docs/scenario.md";
+    }
+  }
+}
+
+TEST(ScenarioDocs, KeyReferenceIsGeneratedFromTheKeyTables) {
+  EXPECT_EQ(generated_block(docs_text(), "KEY REFERENCE"), scenario_key_reference())
+      << "regenerate the block of docs/scenario.md from io::scenario_key_reference()";
+}
+
+TEST(ScenarioDocs, GeneratorReferenceIsGeneratedFromTheCatalog) {
+  EXPECT_EQ(generated_block(docs_text(), "GENERATOR REFERENCE"), generator_reference())
+      << "regenerate the block of docs/scenario.md from io::generator_reference()";
+}
+
+TEST(ScenarioDocs, EveryTomlExampleParses) {
+  const auto docs = docs_text();
+  int examples = 0;
+  for (auto begin = docs.find("```toml\n"); begin != std::string::npos; begin = docs.find("```toml\n", begin + 1)) {
+    const auto end = docs.find("```\n", begin + 8);
+    ASSERT_NE(end, std::string::npos);
+    const auto example = docs.substr(begin + 8, end - begin - 8);
+    EXPECT_NO_THROW(parse_scenario(example, CONSERVE_SOURCE_DIR "/docs/example.toml")) << example;
+    ++examples;
+  }
+  EXPECT_GE(examples, 2);
+}
+
+TEST(ScenarioKeys, ScalarDefaultsAreValid) {
+  for (const auto& section : scenario_sections()) {
+    for (const auto& key : section.keys) {
+      if (key.required) continue;
+      const auto text = key.default_value;
+      if (key.type == KeyType::integer || key.type == KeyType::number) {
+        double value = 0.0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        EXPECT_TRUE(error == std::errc() && end == text.data() + text.size()) << key.name << " = " << text;
+      }
+      if (key.type == KeyType::choice) {
+        EXPECT_NE(std::find(key.choices.begin(), key.choices.end(), text), key.choices.end()) << key.name;
+      }
+    }
+  }
+}
+
+TEST(ScenarioKeys, EveryTableKeyHasASection) {
+  for (const auto& section : scenario_sections()) {
+    for (const auto& key : section.keys) {
+      if (key.type != KeyType::table && key.type != KeyType::table_array) continue;
+      const auto child =
+          section.name.empty() ? std::string(key.name) : std::string(section.name) + "." + std::string(key.name);
+      EXPECT_NO_THROW(scenario_section(child)) << child;
+    }
+  }
+}
+
+TEST(ScenarioKeys, DeclaredDefaultsEqualStructDefaults) {
+  const auto s = parse_scenario(test::minimal(), test::case_file());
+  const Scenario plain;
+  EXPECT_EQ(s.dimension, plain.dimension);
+  EXPECT_EQ(s.title, plain.title);
+  EXPECT_EQ(s.time.scheme, plain.time.scheme);
+  EXPECT_EQ(s.time.mass, plain.time.mass);
+  EXPECT_EQ(s.newton.max_iterations, plain.newton.max_iterations);
+  EXPECT_EQ(s.newton.residual_tolerance, plain.newton.residual_tolerance);
+  EXPECT_EQ(s.newton.increment_tolerance, plain.newton.increment_tolerance);
+  EXPECT_EQ(s.output.directory, plain.output.directory);
+  EXPECT_EQ(s.output.vtu_every, plain.output.vtu_every);
+  EXPECT_EQ(s.output.progress_every, plain.output.progress_every);
+  EXPECT_EQ(s.bodies.at(0).thickness, BodySpec{}.thickness);
+}
+
+}  // namespace
+}  // namespace conserve::io

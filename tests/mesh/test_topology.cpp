@@ -1,0 +1,152 @@
+// Boundary facets, sub-meshes and orientation checks on small hand-made meshes.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "mesh/topology.hpp"
+#include "mesh_checks.hpp"
+
+namespace conserve::mesh {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+/// The unit cube split into the 6 positive tets around the diagonal 0-6
+/// (Kuhn triangulation); nodes are the corners, bit k of the index = axis k.
+Mesh kuhn_cube() {
+  Mesh mesh;
+  mesh.dim = 3;
+  mesh.points.resize(3, 8);
+  for (int n = 0; n < 8; ++n) mesh.points.col(n) = Eigen::Vector3d(n & 1, (n >> 1) & 1, (n >> 2) & 1);
+  const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};  // 0 → a → b → 7
+  mesh.cells.resize(4, 6);
+  for (int c = 0; c < 6; ++c) {
+    mesh.cells.col(c) = Eigen::Vector4i(0, paths[c][0], paths[c][1], 7);
+    if (signed_volume(mesh, c) < 0) std::swap(mesh.cells(1, c), mesh.cells(2, c));
+  }
+  mesh.cell_groups["low"] = {0, 1, 2};
+  mesh.cell_groups["high"] = {3, 4, 5};
+  return mesh;
+}
+
+/// Two counter-clockwise triangles making the unit square.
+Mesh square() {
+  Mesh mesh;
+  mesh.dim = 2;
+  mesh.points.resize(2, 4);
+  mesh.points << 0, 1, 1, 0, 0, 0, 1, 1;
+  mesh.cells.resize(3, 2);
+  mesh.cells << 0, 0, 1, 2, 2, 3;
+  return mesh;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return "";
+}
+
+TEST(Topology, SingleTetFacetsPointOutward) {
+  Mesh mesh;
+  mesh.points = Eigen::Matrix<double, 3, 4>{{0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+  mesh.cells = Eigen::Vector4i(0, 1, 2, 3);
+  const Eigen::MatrixXi facets = boundary_facets(mesh);
+  ASSERT_EQ(facets.cols(), 4);
+  const Eigen::Vector3d centre = mesh.points.rowwise().mean();
+  for (int f = 0; f < 4; ++f) {
+    const Eigen::Vector3d mid =
+        (mesh.points.col(facets(0, f)) + mesh.points.col(facets(1, f)) + mesh.points.col(facets(2, f))) / 3;
+    EXPECT_GT(test::area_normal(mesh, facets, f).dot(mid - centre), 0.0) << f;
+  }
+  EXPECT_NEAR(test::divergence_volume(mesh, facets), 1.0 / 6.0, 1e-15);
+}
+
+TEST(Topology, CubeBoundaryIsClosedAndOutward) {
+  const Mesh mesh = kuhn_cube();
+  EXPECT_NEAR(total_volume(mesh), 1.0, 1e-15);
+  const Eigen::MatrixXi facets = boundary_facets(mesh);
+  EXPECT_EQ(facets.cols(), 12);  // two triangles per cube face; interior faces are shared
+  EXPECT_NEAR(test::check_mesh_consistency(mesh), 1.0, 1e-15);
+}
+
+TEST(Topology, SquareBoundaryIn2D) {
+  const Mesh mesh = square();
+  const Eigen::MatrixXi edges = boundary_facets(mesh);
+  ASSERT_EQ(edges.rows(), 2);
+  ASSERT_EQ(edges.cols(), 4);  // the diagonal 0-2 is shared
+  EXPECT_NEAR(test::divergence_volume(mesh, edges), 1.0, 1e-15);
+  for (int e = 0; e < 4; ++e) {  // normal (t_y, -t_x) points away from the centre
+    const Eigen::Vector2d mid = (mesh.points.col(edges(0, e)) + mesh.points.col(edges(1, e))) / 2;
+    EXPECT_GT(test::area_normal(mesh, edges, e).head<2>().dot(mid - Eigen::Vector2d(0.5, 0.5)), 0.0);
+  }
+}
+
+TEST(Topology, OrientOutwardFollowsTheBoundary) {
+  const Mesh mesh = kuhn_cube();
+  const Eigen::MatrixXi boundary = boundary_facets(mesh);
+  Eigen::MatrixXi facets(3, 3);
+  facets.col(0) = boundary.col(5).reverse();  // a boundary facet, inward
+  facets.col(1) = boundary.col(7);            // one already outward
+  facets.col(2) = Eigen::Vector3i(0, 7, 1);   // inside the cube (tets 0 and 1 share it)
+  EXPECT_EQ(orient_outward(facets, boundary), 1);
+  EXPECT_EQ(facets.col(0), boundary.col(5));
+  EXPECT_EQ(facets.col(1), boundary.col(7));
+  EXPECT_EQ(facets.col(2), Eigen::Vector3i(0, 7, 1));
+}
+
+TEST(Topology, ExtractRenumbersAndRestrictsGroups) {
+  Mesh mesh = kuhn_cube();
+  mesh.facet_groups["bottom"].facets = Eigen::Matrix<int, 3, 2>{{0, 0}, {2, 3}, {3, 1}};  // z = 0
+  mesh.facet_groups["top"].facets = Eigen::Matrix<int, 3, 2>{{4, 5}, {5, 7}, {7, 6}};     // z = 1
+  const Mesh low = extract(mesh, "low");  // tets 0-1-3-7, 0-1-5-7, 0-2-3-7: nodes 0 1 2 3 5 7
+  EXPECT_EQ(low.num_cells(), 3);
+  ASSERT_EQ(low.num_nodes(), 6);
+  EXPECT_EQ(low.points.col(4), Eigen::Vector3d(1, 0, 1));  // old node 5, in increasing old order
+  EXPECT_EQ(low.points.col(5), Eigen::Vector3d(1, 1, 1));
+  EXPECT_EQ(low.cell_groups.at("low"), (std::vector<int>{0, 1, 2}));
+  EXPECT_FALSE(low.cell_groups.contains("high"));
+  EXPECT_EQ(low.facet_groups.at("bottom").facets.cols(), 2);
+  EXPECT_FALSE(low.facet_groups.contains("top"));  // needs nodes 4 and 6
+  EXPECT_NO_THROW(check_orientation(low, "low"));
+  mesh.cell_groups["none"] = {};
+  const Mesh none = extract(mesh, "none");
+  EXPECT_EQ(none.num_cells(), 0);
+  EXPECT_EQ(none.num_nodes(), 0);
+  EXPECT_TRUE(none.facet_groups.empty());
+  const Mesh all = extract(mesh, "");
+  EXPECT_EQ(all.num_cells(), 6);
+  EXPECT_EQ(all.points, mesh.points);
+  EXPECT_EQ(all.facet_groups.size(), 2u);
+}
+
+TEST(Topology, ExtractUnknownGroupListsAvailable) {
+  EXPECT_THAT(error_of([] { extract(kuhn_cube(), "middle"); }),
+              AllOf(HasSubstr("unknown cell group 'middle'"), HasSubstr("high, low")));
+}
+
+TEST(Topology, CheckOrientationNamesTheFirstBadCell) {
+  Mesh mesh = kuhn_cube();
+  std::swap(mesh.cells(0, 4), mesh.cells(1, 4));
+  EXPECT_EQ(cell_orientation(mesh, 4), CellOrientation::inverted);
+  EXPECT_THAT(error_of([&] { check_orientation(mesh, "cube.msh"); }),
+              AllOf(HasSubstr("cube.msh: cell 4 is inverted"), HasSubstr("-0.166667")));
+  Mesh flat = square();
+  flat.points.col(2) = Eigen::Vector2d(2, 0);  // node 2 on the line of nodes 0 and 1
+  EXPECT_EQ(cell_orientation(flat, 0), CellOrientation::degenerate);
+  EXPECT_THAT(error_of([&] { check_orientation(flat, "sq"); }), HasSubstr("sq: cell 0 is degenerate"));
+}
+
+TEST(Topology, SignedVolumes) {
+  const Mesh mesh = square();
+  EXPECT_DOUBLE_EQ(signed_volume(mesh, 0), 0.5);
+  EXPECT_DOUBLE_EQ(total_volume(mesh), 1.0);
+  EXPECT_EQ(cell_orientation(mesh, 1), CellOrientation::positive);
+}
+
+}  // namespace
+}  // namespace conserve::mesh
