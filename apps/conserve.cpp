@@ -3,8 +3,8 @@
 //   conserve check SCENARIO
 // Every failure is one line on stderr and a non-zero exit code:
 // 1 bad input, 2 bad command line, 3 solver failure, 4 anything else.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "core/error.hpp"
 #include "io/scenario.hpp"
@@ -16,8 +16,8 @@ using conserve::simulation::CheckSummary;
 using conserve::simulation::RunSummary;
 
 void print_summary(const RunSummary& s) {
-  fmt::print("finished {} steps in {:.2f} s ({:.2f} Newton iterations per step, at most {})\n", s.steps,
-             s.wall_seconds, s.mean_newton_iterations, s.max_newton_iterations);
+  fmt::print("finished {} steps in {:.2f} s ({:.2f} Newton iterations per step, at most {})\n", s.steps, s.wall_seconds,
+             s.mean_newton_iterations, s.max_newton_iterations);
   fmt::print("relative drift: E {:.2e}  L ({:.2e}, {:.2e}, {:.2e})  J ({:.2e}, {:.2e}, {:.2e})\n", s.energy_drift,
              s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
              s.angular_drift.z());

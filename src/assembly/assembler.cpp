@@ -29,8 +29,8 @@ fem::NodeMatrix<D> Assembler<D>::cell_positions(int cell, const Eigen::VectorXd&
 }
 
 template <int D>
-void Assembler<D>::internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
-                                  fem::StressScheme scheme, Eigen::VectorXd& f) const {
+void Assembler<D>::internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                                  Eigen::VectorXd& f) const {
   f.setZero(model_.num_dofs());
   for (int c = 0; c < model_.num_cells(); ++c) {
     const fem::StepPositions<D> x{cell_positions(c, u_n), cell_positions(c, u_np1)};
@@ -41,8 +41,7 @@ void Assembler<D>::internal_force(const Eigen::VectorXd& u_n, const Eigen::Vecto
 
 template <int D>
 void Assembler<D>::internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
-                                          fem::StressScheme scheme, Eigen::VectorXd& f,
-                                          SparseMatrix& K) const {
+                                          fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const {
   f.setZero(model_.num_dofs());
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   double* values = K.valuePtr();

@@ -22,12 +22,12 @@ class Assembler {
   [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
 
   /// Internal force of the step u_n → u_{n+1} [N].
-  void internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
-                      fem::StressScheme scheme, Eigen::VectorXd& f) const;
+  void internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                      Eigen::VectorXd& f) const;
 
   /// Internal force and K = ∂f/∂u_{n+1}; K must have the pattern's layout.
-  void internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
-                              fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const;
+  void internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                              Eigen::VectorXd& f, SparseMatrix& K) const;
 
   /// Stored energy W(u) = Σ_cells V ρ0Ψ [J].
   [[nodiscard]] double strain_energy(const Eigen::VectorXd& u) const;
@@ -36,9 +36,7 @@ class Assembler {
   [[nodiscard]] fem::NodeMatrix<D> cell_positions(int cell, const Eigen::VectorXd& u) const;
 
  private:
-  [[nodiscard]] const material::Lame& lame(int cell) const {
-    return model_.bodies[model_.cell_body[cell]].lame;
-  }
+  [[nodiscard]] const material::Lame& lame(int cell) const { return model_.bodies[model_.cell_body[cell]].lame; }
   const model::Model<D>& model_;
   BlockPattern<D> pattern_;
   SparseMatrix mass_;

@@ -23,8 +23,7 @@ BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
   }
   outer_.assign(num_nodes * D + 1, 0);
   for (int n = 0; n < num_nodes; ++n)
-    for (int k = 0; k < D; ++k)
-      outer_[n * D + k + 1] = outer_[n * D + k] + static_cast<int>(neighbours_[n].size()) * D;
+    for (int k = 0; k < D; ++k) outer_[n * D + k + 1] = outer_[n * D + k] + static_cast<int>(neighbours_[n].size()) * D;
   inner_.reserve(outer_.back());
   for (int n = 0; n < num_nodes; ++n)
     for (int k = 0; k < D; ++k)

@@ -15,8 +15,7 @@ class BlockPattern {
  public:
   /// `cells`: (D+1) × n_cells node numbers; `extra` couples further node
   /// pairs (both ways), e.g. for constraints.
-  BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
-               const std::vector<std::pair<int, int>>& extra = {});
+  BlockPattern(int num_nodes, const Eigen::MatrixXi& cells, const std::vector<std::pair<int, int>>& extra = {});
 
   /// A compressed matrix with this pattern and zero values.
   [[nodiscard]] SparseMatrix make_matrix() const;
@@ -35,10 +34,10 @@ class BlockPattern {
 
  private:
   Eigen::MatrixXi cells_;
-  std::vector<int> outer_;           ///< column starts (CSC)
-  std::vector<int> inner_;           ///< row indices
+  std::vector<int> outer_;                    ///< column starts (CSC)
+  std::vector<int> inner_;                    ///< row indices
   std::vector<std::vector<int>> neighbours_;  ///< sorted neighbour nodes per node
-  std::vector<int> rank_;            ///< per cell, per (b, a): rank of A among B's neighbours
+  std::vector<int> rank_;                     ///< per cell, per (b, a): rank of A among B's neighbours
 };
 
 }  // namespace conserve::assembly

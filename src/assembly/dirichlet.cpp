@@ -8,8 +8,10 @@ DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs
   for (int col = 0; col < A.cols(); ++col)
     for (int p = A.outerIndexPtr()[col]; p < A.outerIndexPtr()[col + 1]; ++p) {
       const int row = A.innerIndexPtr()[p];
-      if (fixed[row] && row == col) diagonal_positions_.push_back(p);
-      else if (fixed[row] || fixed[col]) zero_positions_.push_back(p);
+      if (fixed[row] && row == col)
+        diagonal_positions_.push_back(p);
+      else if (fixed[row] || fixed[col])
+        zero_positions_.push_back(p);
     }
 }
 

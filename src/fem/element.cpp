@@ -27,8 +27,8 @@ AlgorithmicState<D> algorithmic_state(const SimplexGeometry<D>& g, const materia
 }  // namespace
 
 template <int D>
-NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame,
-                             const StepPositions<D>& x, StressScheme scheme) {
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+                             StressScheme scheme) {
   const AlgorithmicState<D> s = algorithmic_state<D>(g, lame, x, scheme);
   return g.volume * (s.F_mid * s.S * g.grad);
 }
@@ -39,9 +39,8 @@ NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& 
 //   ½V [ δ_ik a_B·S a_A + λ (F a_A)_i (G a_B)_k + μ (F a_B)_i (G a_A)_k
 //        + μ (a_A·a_B) (F Gᵀ)_ik ],     F = F_{n+½}.
 template <int D>
-void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame,
-                            const StepPositions<D>& x, StressScheme scheme, NodeMatrix<D>& f,
-                            ElementMatrix<D>& K) {
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+                            StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
   const AlgorithmicState<D> s = algorithmic_state<D>(g, lame, x, scheme);
   const NodeMatrix<D> Fa = s.F_mid * g.grad;
   const NodeMatrix<D> Ga = s.G * g.grad;
@@ -52,8 +51,8 @@ void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& l
   f = g.volume * (s.F_mid * s.S * g.grad);
   for (int B = 0; B < D + 1; ++B) {
     for (int A = 0; A < D + 1; ++A) {
-      Mat<D> block = lame.lambda * Fa.col(A) * Ga.col(B).transpose() +
-                     lame.mu * Fa.col(B) * Ga.col(A).transpose() + lame.mu * aa(A, B) * FGt;
+      Mat<D> block = lame.lambda * Fa.col(A) * Ga.col(B).transpose() + lame.mu * Fa.col(B) * Ga.col(A).transpose() +
+                     lame.mu * aa(A, B) * FGt;
       block.diagonal().array() += aSa(A, B);
       K.template block<D, D>(A * D, B * D) = h * block;
     }
@@ -61,15 +60,13 @@ void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& l
 }
 
 template <int D>
-double strain_energy(const SimplexGeometry<D>& g, const material::Lame& lame,
-                     const NodeMatrix<D>& x) {
+double strain_energy(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x) {
   const Mat<D> E = material::green_lagrange<D>(deformation_gradient<D>(x, g));
   return g.volume * material::svk_energy_density<D>(lame, E);
 }
 
 template <int D>
-Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame,
-                   const NodeMatrix<D>& x) {
+Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x) {
   const Mat<D> F = deformation_gradient<D>(x, g);
   const Mat<D> E = material::green_lagrange<D>(F);
   const double J = F.determinant();
@@ -79,16 +76,13 @@ Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame,
   return sigma;
 }
 
-#define CONSERVE_INSTANTIATE(D)                                                                 \
-  template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Lame&,   \
-                                           const StepPositions<D>&, StressScheme);             \
-  template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Lame&,    \
-                                          const StepPositions<D>&, StressScheme,               \
-                                          NodeMatrix<D>&, ElementMatrix<D>&);                  \
-  template double strain_energy<D>(const SimplexGeometry<D>&, const material::Lame&,           \
-                                   const NodeMatrix<D>&);                                      \
-  template Mat3 cauchy_stress<D>(const SimplexGeometry<D>&, const material::Lame&,             \
-                                 const NodeMatrix<D>&);
+#define CONSERVE_INSTANTIATE(D)                                                                                       \
+  template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Lame&, const StepPositions<D>&, \
+                                           StressScheme);                                                             \
+  template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Lame&, const StepPositions<D>&,  \
+                                          StressScheme, NodeMatrix<D>&, ElementMatrix<D>&);                           \
+  template double strain_energy<D>(const SimplexGeometry<D>&, const material::Lame&, const NodeMatrix<D>&);           \
+  template Mat3 cauchy_stress<D>(const SimplexGeometry<D>&, const material::Lame&, const NodeMatrix<D>&);
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)
 #undef CONSERVE_INSTANTIATE

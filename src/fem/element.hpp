@@ -25,24 +25,21 @@ struct StepPositions {
 
 /// Internal force f (column A = f_A) [N], paper (20) with ALGORITHM §2.
 template <int D>
-NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame,
-                             const StepPositions<D>& x, StressScheme scheme);
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+                             StressScheme scheme);
 
 /// Internal force and its tangent K = ∂f/∂x_{n+1}, dof order (A, i) → A·D+i.
 template <int D>
-void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame,
-                            const StepPositions<D>& x, StressScheme scheme, NodeMatrix<D>& f,
-                            ElementMatrix<D>& K);
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+                            StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K);
 
 /// Stored energy W = V ρ0Ψ(E(F)) of the cell at positions x [J].
 template <int D>
-double strain_energy(const SimplexGeometry<D>& g, const material::Lame& lame,
-                     const NodeMatrix<D>& x);
+double strain_energy(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x);
 
 /// Cauchy stress σ = J⁻¹ F S Fᵀ at positions x, embedded in 3×3 (plane
 /// strain: σ_zz = J⁻¹ λ tr E) [Pa].
 template <int D>
-Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame,
-                   const NodeMatrix<D>& x);
+Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x);
 
 }  // namespace conserve::fem

@@ -26,9 +26,10 @@ struct MaterialSpec {
 
 /// Where a body's mesh comes from: a file or a built-in generator.
 struct MeshSpec {
-  std::filesystem::path file;  ///< .msh 4.1 file, absolute (resolved against the scenario's folder); empty with a generator
-  std::string group;           ///< cell physical group to take from the file; empty = all cells
-  std::string generator;       ///< generator name (mesh/generators.hpp); empty with a file
+  std::filesystem::path
+      file;               ///< .msh 4.1 file, absolute (resolved against the scenario's folder); empty with a generator
+  std::string group;      ///< cell physical group to take from the file; empty = all cells
+  std::string generator;  ///< generator name (mesh/generators.hpp); empty with a file
   std::map<std::string, double> parameters;  ///< generator parameters, validated against the catalog
 };
 
@@ -49,9 +50,9 @@ struct BodySpec {
 /// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for
 /// each listed component i.
 struct BoundarySpec {
-  std::string body;             ///< body name
-  std::string group;            ///< facet group of the body's mesh, or "all" (every node)
-  std::vector<int> components;  ///< prescribed components, 0 = x, 1 = y, 2 = z
+  std::string body;                                 ///< body name
+  std::string group;                                ///< facet group of the body's mesh, or "all" (every node)
+  std::vector<int> components;                      ///< prescribed components, 0 = x, 1 = y, 2 = z
   Eigen::Vector3d value = Eigen::Vector3d::Zero();  ///< [m]
   Eigen::Vector3d rate = Eigen::Vector3d::Zero();   ///< [m/s]
 };
@@ -73,8 +74,8 @@ struct NewtonSpec {
 
 struct OutputSpec {
   std::filesystem::path directory = "out";  ///< relative to the working directory
-  int vtu_every = 10;     ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
-  int progress_every = 0; ///< 0: a progress line about once a second
+  int vtu_every = 10;      ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
+  int progress_every = 0;  ///< 0: a progress line about once a second
 };
 
 struct Scenario {

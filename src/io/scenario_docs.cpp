@@ -19,16 +19,26 @@ std::string escape_cell(std::string_view text) {
 
 std::string_view type_name(KeyType type) {
   switch (type) {
-    case KeyType::string: return "string";
-    case KeyType::choice: return "string";
-    case KeyType::integer: return "integer";
-    case KeyType::number: return "number";
-    case KeyType::vector: return "array of numbers";
-    case KeyType::angular_velocity: return "number (2D) or array of 3 numbers (3D)";
-    case KeyType::matrix: return "array of arrays of numbers";
-    case KeyType::components: return "array of strings";
-    case KeyType::table: return "table";
-    case KeyType::table_array: return "array of tables";
+    case KeyType::string:
+      return "string";
+    case KeyType::choice:
+      return "string";
+    case KeyType::integer:
+      return "integer";
+    case KeyType::number:
+      return "number";
+    case KeyType::vector:
+      return "array of numbers";
+    case KeyType::angular_velocity:
+      return "number (2D) or array of 3 numbers (3D)";
+    case KeyType::matrix:
+      return "array of arrays of numbers";
+    case KeyType::components:
+      return "array of strings";
+    case KeyType::table:
+      return "table";
+    case KeyType::table_array:
+      return "array of tables";
   }
   return "?";
 }

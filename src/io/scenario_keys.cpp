@@ -16,47 +16,71 @@ SectionSpec top_level() {
           .doc = "Top level of the file.",
           .keys = {
               {.name = "title", .type = KeyType::string, .doc = "free text shown in the output"},
-              {.name = "dimension", .type = KeyType::integer, .default_value = "3",
-               .min = at_least(2), .max = at_most(3),
+              {.name = "dimension",
+               .type = KeyType::integer,
+               .default_value = "3",
+               .min = at_least(2),
+               .max = at_most(3),
                .doc = "2 (plane strain, triangles) or 3 (tetrahedra)"},
               {.name = "time", .type = KeyType::table, .required = true, .doc = "time stepping, see [time]"},
               {.name = "newton", .type = KeyType::table, .doc = "Newton solver, see [newton]"},
               {.name = "loads", .type = KeyType::table, .doc = "body forces, see [loads]"},
               {.name = "output", .type = KeyType::table, .doc = "output files, see [output]"},
-              {.name = "body", .type = KeyType::table_array, .required = true,
+              {.name = "body",
+               .type = KeyType::table_array,
+               .required = true,
                .doc = "the bodies, one [[body]] table each (at least one)"},
-              {.name = "boundary", .type = KeyType::table_array,
+              {.name = "boundary",
+               .type = KeyType::table_array,
                .doc = "prescribed displacements, one [[boundary]] table each"},
           }};
 }
 
 SectionSpec time_section() {
-  return {.name = "time",
-          .doc = "Time stepping.",
-          .keys = {
-              {.name = "step", .type = KeyType::number, .required = true, .unit = "s",
-               .min = above(0), .doc = "time step Δt"},
-              {.name = "end", .type = KeyType::number, .required = true, .unit = "s",
-               .doc = "end time; must be ≥ step"},
-              {.name = "scheme", .type = KeyType::choice, .default_value = "conserving",
-               .choices = {"conserving", "midpoint"},
-               .doc = "algorithmic stress: `conserving` (energy–momentum conserving, Simo–Tarnow) "
-                      "or `midpoint` (plain mid-point rule; does not conserve energy, a negative control)"},
-              {.name = "mass", .type = KeyType::choice, .default_value = "consistent",
-               .choices = {"consistent", "lumped"}, .doc = "mass matrix"},
-          }};
+  return {
+      .name = "time",
+      .doc = "Time stepping.",
+      .keys = {
+          {.name = "step",
+           .type = KeyType::number,
+           .required = true,
+           .unit = "s",
+           .min = above(0),
+           .doc = "time step Δt"},
+          {.name = "end", .type = KeyType::number, .required = true, .unit = "s", .doc = "end time; must be ≥ step"},
+          {.name = "scheme",
+           .type = KeyType::choice,
+           .default_value = "conserving",
+           .choices = {"conserving", "midpoint"},
+           .doc = "algorithmic stress: `conserving` (energy–momentum conserving, Simo–Tarnow) "
+                  "or `midpoint` (plain mid-point rule; does not conserve energy, a negative control)"},
+          {.name = "mass",
+           .type = KeyType::choice,
+           .default_value = "consistent",
+           .choices = {"consistent", "lumped"},
+           .doc = "mass matrix"},
+      }};
 }
 
 SectionSpec newton_section() {
   return {.name = "newton",
           .doc = "Newton iteration of each step.",
           .keys = {
-              {.name = "max_iterations", .type = KeyType::integer, .default_value = "20",
-               .min = at_least(1), .doc = "iterations before the step fails"},
-              {.name = "residual_tolerance", .type = KeyType::number, .default_value = "1e-12",
-               .min = above(0), .doc = "converged when |r| ≤ tolerance · (reference force of the step)"},
-              {.name = "increment_tolerance", .type = KeyType::number, .default_value = "1e-13",
-               .min = above(0), .doc = "or when |Δu| ≤ tolerance · (size of the model)"},
+              {.name = "max_iterations",
+               .type = KeyType::integer,
+               .default_value = "20",
+               .min = at_least(1),
+               .doc = "iterations before the step fails"},
+              {.name = "residual_tolerance",
+               .type = KeyType::number,
+               .default_value = "1e-12",
+               .min = above(0),
+               .doc = "converged when |r| ≤ tolerance · (reference force of the step)"},
+              {.name = "increment_tolerance",
+               .type = KeyType::number,
+               .default_value = "1e-13",
+               .min = above(0),
+               .doc = "or when |Δu| ≤ tolerance · (size of the model)"},
           }};
 }
 
@@ -64,7 +88,10 @@ SectionSpec loads_section() {
   return {.name = "loads",
           .doc = "Body forces.",
           .keys = {
-              {.name = "gravity", .type = KeyType::vector, .default_value = "zeros", .unit = "m/s²",
+              {.name = "gravity",
+               .type = KeyType::vector,
+               .default_value = "zeros",
+               .unit = "m/s²",
                .doc = "gravitational acceleration, `dimension` numbers"},
           }};
 }
@@ -73,11 +100,19 @@ SectionSpec output_section() {
   return {.name = "output",
           .doc = "Output files.",
           .keys = {
-              {.name = "directory", .type = KeyType::string, .default_value = "out",
+              {.name = "directory",
+               .type = KeyType::string,
+               .default_value = "out",
                .doc = "output folder, relative to the working directory"},
-              {.name = "vtu_every", .type = KeyType::integer, .default_value = "10", .min = at_least(0),
+              {.name = "vtu_every",
+               .type = KeyType::integer,
+               .default_value = "10",
+               .min = at_least(0),
                .doc = "write a VTU file every N steps (0: none; if > 0 the first and last step are always written)"},
-              {.name = "progress_every", .type = KeyType::integer, .default_value = "0", .min = at_least(0),
+              {.name = "progress_every",
+               .type = KeyType::integer,
+               .default_value = "0",
+               .min = at_least(0),
                .doc = "print a progress line every N steps (0: about once a second)"},
           }};
 }
@@ -86,22 +121,37 @@ SectionSpec body_section() {
   return {.name = "body",
           .doc = "One body; repeat [[body]] for each.",
           .keys = {
-              {.name = "name", .type = KeyType::string, .required = true,
+              {.name = "name",
+               .type = KeyType::string,
+               .required = true,
                .doc = "unique, non-empty name (used by [[boundary]] and in the output)"},
-              {.name = "translate", .type = KeyType::vector, .default_value = "zeros", .unit = "m",
+              {.name = "translate",
+               .type = KeyType::vector,
+               .default_value = "zeros",
+               .unit = "m",
                .doc = "shift of the mesh's reference configuration, `dimension` numbers"},
-              {.name = "velocity", .type = KeyType::vector, .default_value = "zeros", .unit = "m/s",
+              {.name = "velocity",
+               .type = KeyType::vector,
+               .default_value = "zeros",
+               .unit = "m/s",
                .doc = "uniform initial velocity, `dimension` numbers"},
-              {.name = "angular_velocity", .type = KeyType::angular_velocity, .default_value = "zeros",
+              {.name = "angular_velocity",
+               .type = KeyType::angular_velocity,
+               .default_value = "zeros",
                .unit = "rad/s",
                .doc = "initial rigid rotation about the centre of mass: 3 numbers in 3D, one number (about z) in 2D"},
-              {.name = "initial_deformation", .type = KeyType::matrix, .default_value = "identity",
+              {.name = "initial_deformation",
+               .type = KeyType::matrix,
+               .default_value = "identity",
                .doc = "initial deformation gradient F0 (rows), applied about the centroid c: "
                       "u0(X) = (F0 − I)(X − c); det F0 > 0"},
-              {.name = "thickness", .type = KeyType::number, .default_value = "1", .unit = "m",
-               .min = above(0), .doc = "out-of-plane thickness; 2D only (an error in 3D)"},
-              {.name = "material", .type = KeyType::table, .required = true,
-               .doc = "material, see [body.material]"},
+              {.name = "thickness",
+               .type = KeyType::number,
+               .default_value = "1",
+               .unit = "m",
+               .min = above(0),
+               .doc = "out-of-plane thickness; 2D only (an error in 3D)"},
+              {.name = "material", .type = KeyType::table, .required = true, .doc = "material, see [body.material]"},
               {.name = "mesh", .type = KeyType::table, .required = true, .doc = "mesh, see [body.mesh]"},
           }};
 }
@@ -110,44 +160,73 @@ SectionSpec material_section() {
   return {.name = "body.material",
           .doc = "St. Venant–Kirchhoff material of the body.",
           .keys = {
-              {.name = "young", .type = KeyType::number, .required = true, .unit = "Pa",
-               .min = above(0), .doc = "Young's modulus E"},
-              {.name = "poisson", .type = KeyType::number, .required = true, .min = above(-1),
-               .max = below(0.5), .doc = "Poisson's ratio ν"},
-              {.name = "density", .type = KeyType::number, .required = true, .unit = "kg/m³",
-               .min = above(0), .doc = "reference density ρ0"},
+              {.name = "young",
+               .type = KeyType::number,
+               .required = true,
+               .unit = "Pa",
+               .min = above(0),
+               .doc = "Young's modulus E"},
+              {.name = "poisson",
+               .type = KeyType::number,
+               .required = true,
+               .min = above(-1),
+               .max = below(0.5),
+               .doc = "Poisson's ratio ν"},
+              {.name = "density",
+               .type = KeyType::number,
+               .required = true,
+               .unit = "kg/m³",
+               .min = above(0),
+               .doc = "reference density ρ0"},
           }};
 }
 
 SectionSpec mesh_section() {
   return {.name = "body.mesh",
-          .doc = "The body's mesh: exactly one of `file` or `generator`. With `generator`, every "
-                 "other key is a parameter of that generator (a number, see the generator list below).",
-          .keys = {
-              {.name = "file", .type = KeyType::string,
-               .doc = "Gmsh .msh 4.1 file, relative to the scenario file's folder; must exist"},
-              {.name = "group", .type = KeyType::string, .default_value = "",
-               .doc = "cell physical group to take from the file (empty: all cells); only with `file`"},
-              {.name = "generator", .type = KeyType::string,
-               .doc = "name of a built-in mesh generator; its `dim` must equal `dimension`"},
-          },
+          .doc =
+              "The body's mesh: exactly one of `file` or `generator`. With `generator`, every "
+              "other key is a parameter of that generator (a number, see the generator list below).",
+          .keys =
+              {
+                  {.name = "file",
+                   .type = KeyType::string,
+                   .doc = "Gmsh .msh 4.1 file, relative to the scenario file's folder; must exist"},
+                  {.name = "group",
+                   .type = KeyType::string,
+                   .default_value = "",
+                   .doc = "cell physical group to take from the file (empty: all cells); only with `file`"},
+                  {.name = "generator",
+                   .type = KeyType::string,
+                   .doc = "name of a built-in mesh generator; its `dim` must equal `dimension`"},
+              },
           .open = true};
 }
 
 SectionSpec boundary_section() {
   return {.name = "boundary",
-          .doc = "Prescribed displacement u_i(t) = value_i + rate_i · t of the listed components "
-                 "on a node set; repeat [[boundary]] for each.",
+          .doc =
+              "Prescribed displacement u_i(t) = value_i + rate_i · t of the listed components "
+              "on a node set; repeat [[boundary]] for each.",
           .keys = {
               {.name = "body", .type = KeyType::string, .required = true, .doc = "name of a [[body]]"},
-              {.name = "group", .type = KeyType::string, .required = true,
+              {.name = "group",
+               .type = KeyType::string,
+               .required = true,
                .doc = "`all` (every node of the body) or a facet group of its mesh "
                       "(checked when the model is built)"},
-              {.name = "components", .type = KeyType::components, .default_value = "all",
+              {.name = "components",
+               .type = KeyType::components,
+               .default_value = "all",
                .doc = "prescribed components, e.g. [\"x\", \"z\"]; default: all of the dimension"},
-              {.name = "value", .type = KeyType::vector, .default_value = "zeros", .unit = "m",
+              {.name = "value",
+               .type = KeyType::vector,
+               .default_value = "zeros",
+               .unit = "m",
                .doc = "displacement at t = 0, `dimension` numbers (entries of unlisted components are ignored)"},
-              {.name = "rate", .type = KeyType::vector, .default_value = "zeros", .unit = "m/s",
+              {.name = "rate",
+               .type = KeyType::vector,
+               .default_value = "zeros",
+               .unit = "m/s",
                .doc = "displacement rate, `dimension` numbers"},
           }};
 }

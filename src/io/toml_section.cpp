@@ -22,9 +22,7 @@ T parse_default(const KeySpec& key) {
   return value;
 }
 
-std::string unit_text(const KeySpec& key) {
-  return key.unit.empty() ? std::string() : fmt::format(" [{}]", key.unit);
-}
+std::string unit_text(const KeySpec& key) { return key.unit.empty() ? std::string() : fmt::format(" [{}]", key.unit); }
 
 std::string with_range(std::string text, const KeySpec& key) {
   const auto range = range_text(key);
@@ -38,22 +36,30 @@ void fail(const Context& ctx, std::uint32_t line, std::string_view key, std::str
   throw InputError(fmt::format("{}:{}: {}: {} (expected {})", ctx.file, line, key, what, expected));
 }
 
-std::uint32_t line_of(const toml::node& node) {
-  return std::max<std::uint32_t>(node.source().begin.line, 1);
-}
+std::uint32_t line_of(const toml::node& node) { return std::max<std::uint32_t>(node.source().begin.line, 1); }
 
 std::string_view type_of(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a float";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::date: return "a date";
-    case toml::node_type::time: return "a time";
-    case toml::node_type::date_time: return "a date-time";
-    case toml::node_type::none: break;
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    case toml::node_type::none:
+      break;
   }
   return "nothing";
 }
@@ -67,19 +73,27 @@ std::optional<double> number_value(const toml::node& node) {
 std::string describe(const KeySpec& key, int dimension) {
   const auto unit = unit_text(key);
   switch (key.type) {
-    case KeyType::string: return "a string";
-    case KeyType::choice: return fmt::format("one of: {}", fmt::join(key.choices, ", "));
-    case KeyType::integer: return with_range("an integer", key);
-    case KeyType::number: return with_range("a finite number" + unit, key);
-    case KeyType::vector: return fmt::format("an array of {} numbers{}", dimension, unit);
+    case KeyType::string:
+      return "a string";
+    case KeyType::choice:
+      return fmt::format("one of: {}", fmt::join(key.choices, ", "));
+    case KeyType::integer:
+      return with_range("an integer", key);
+    case KeyType::number:
+      return with_range("a finite number" + unit, key);
+    case KeyType::vector:
+      return fmt::format("an array of {} numbers{}", dimension, unit);
     case KeyType::angular_velocity:
       return dimension == 3 ? "an array of 3 numbers" + unit : "one number" + unit + ", the rotation about z in 2D";
-    case KeyType::matrix: return fmt::format("{0} rows, each an array of {0} numbers", dimension);
+    case KeyType::matrix:
+      return fmt::format("{0} rows, each an array of {0} numbers", dimension);
     case KeyType::components:
       return dimension == 3 ? "a non-empty array of distinct strings out of x, y, z"
                             : "a non-empty array of distinct strings out of x, y";
-    case KeyType::table: return fmt::format("a table [{}]", key.name);
-    case KeyType::table_array: return fmt::format("one or more [[{}]] tables", key.name);
+    case KeyType::table:
+      return fmt::format("a table [{}]", key.name);
+    case KeyType::table_array:
+      return fmt::format("one or more [[{}]] tables", key.name);
   }
   return "?";
 }
@@ -90,9 +104,7 @@ Section::Section(const toml::table& table, const SectionSpec& spec, std::string 
   check_required_keys();
 }
 
-const toml::node* Section::find(std::string_view key) const {
-  return table_->get(key);
-}
+const toml::node* Section::find(std::string_view key) const { return table_->get(key); }
 
 std::string Section::path(std::string_view key) const {
   return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);

@@ -70,11 +70,16 @@ std::string points(const Eigen::MatrixXd& p) {
 
 std::uint8_t cell_type(Eigen::Index nodes_per_cell) {
   switch (nodes_per_cell) {
-    case 1: return 1;   // VTK_VERTEX
-    case 2: return 3;   // VTK_LINE
-    case 3: return 5;   // VTK_TRIANGLE
-    case 4: return 10;  // VTK_TETRA
-    default: throw Error(fmt::format("VTU cells: no simplex with {} nodes", nodes_per_cell));
+    case 1:
+      return 1;  // VTK_VERTEX
+    case 2:
+      return 3;  // VTK_LINE
+    case 3:
+      return 5;  // VTK_TRIANGLE
+    case 4:
+      return 10;  // VTK_TETRA
+    default:
+      throw Error(fmt::format("VTU cells: no simplex with {} nodes", nodes_per_cell));
   }
 }
 

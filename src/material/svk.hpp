@@ -13,8 +13,7 @@ struct Lame {
 
   /// From Young's modulus E [Pa] and Poisson's ratio ν (−1 < ν < 0.5).
   static Lame from_young_poisson(double young, double poisson) {
-    return {young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)),
-            young / (2.0 * (1.0 + poisson))};
+    return {young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)), young / (2.0 * (1.0 + poisson))};
   }
 };
 

@@ -7,9 +7,9 @@
 namespace conserve::model {
 
 struct InitialMotion {
-  Mat3 deformation = Mat3::Identity();     ///< F0: u0 = (F0 − 1)(X − c); 2D uses the upper 2×2
-  Vec3 velocity = Vec3::Zero();            ///< [m/s]
-  Vec3 angular_velocity = Vec3::Zero();    ///< [rad/s] about the deformed centre of mass (2D: z)
+  Mat3 deformation = Mat3::Identity();   ///< F0: u0 = (F0 − 1)(X − c); 2D uses the upper 2×2
+  Vec3 velocity = Vec3::Zero();          ///< [m/s]
+  Vec3 angular_velocity = Vec3::Zero();  ///< [rad/s] about the deformed centre of mass (2D: z)
 };
 
 /// A state at rest in the reference configuration at t = 0.

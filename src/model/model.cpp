@@ -1,7 +1,7 @@
 #include "model/model.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <numeric>
 
 #include "core/error.hpp"
@@ -9,10 +9,9 @@
 namespace conserve::model {
 
 template <int D>
-Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
-               const material::Lame& lame, double density, double thickness) {
-  if (mesh.dim != D)
-    throw InputError(fmt::format("body '{}': mesh is {}D but the scenario is {}D", name, mesh.dim, D));
+Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name, const material::Lame& lame,
+               double density, double thickness) {
+  if (mesh.dim != D) throw InputError(fmt::format("body '{}': mesh is {}D but the scenario is {}D", name, mesh.dim, D));
   Body body{name, model.num_nodes(), mesh.num_nodes(), model.num_cells(), mesh.num_cells(), lame, density, {}};
   model.X.conservativeResize(D, body.first_node + body.num_nodes);
   model.X.rightCols(body.num_nodes) = mesh.points.topRows(D);

@@ -40,12 +40,12 @@ constexpr int dof(int node, int i) {
 
 template <int D>
 struct Model {
-  Eigen::Matrix<double, D, Eigen::Dynamic> X;  ///< reference coordinates, D × n_nodes [m]
-  Eigen::MatrixXi cells;                        ///< (D+1) × n_cells, global node numbers
+  Eigen::Matrix<double, D, Eigen::Dynamic> X;     ///< reference coordinates, D × n_nodes [m]
+  Eigen::MatrixXi cells;                          ///< (D+1) × n_cells, global node numbers
   std::vector<fem::SimplexGeometry<D>> geometry;  ///< per cell
-  std::vector<int> cell_body;                   ///< body index per cell
+  std::vector<int> cell_body;                     ///< body index per cell
   std::vector<Body> bodies;
-  Vec<D> gravity = Vec<D>::Zero();              ///< [m/s²]
+  Vec<D> gravity = Vec<D>::Zero();  ///< [m/s²]
   Prescribed prescribed;
 
   [[nodiscard]] int num_nodes() const { return static_cast<int>(X.cols()); }
@@ -61,8 +61,8 @@ struct Model {
 /// naming `name` if the mesh's dimension is not D or a cell is inverted or
 /// degenerate. `thickness` [m] is the out-of-plane size in 2D.
 template <int D>
-Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
-               const material::Lame& lame, double density, double thickness);
+Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name, const material::Lame& lame,
+               double density, double thickness);
 
 /// Node numbers (global, sorted, unique) of a body's group; "all" is every
 /// node of the body. Throws InputError listing the groups if unknown.

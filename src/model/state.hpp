@@ -6,9 +6,9 @@ namespace conserve::model {
 
 struct State {
   int step = 0;
-  double time = 0.0;   ///< [s]
-  Eigen::VectorXd u;   ///< displacements from the reference configuration [m]
-  Eigen::VectorXd v;   ///< velocities [m/s]
+  double time = 0.0;  ///< [s]
+  Eigen::VectorXd u;  ///< displacements from the reference configuration [m]
+  Eigen::VectorXd v;  ///< velocities [m/s]
 };
 
 }  // namespace conserve::model

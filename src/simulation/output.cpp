@@ -7,8 +7,8 @@
 namespace conserve::simulation {
 
 std::vector<std::string> history_columns() {
-  return {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
-          "J_x",  "J_y",  "J_z",     "newton_iterations", "residual"};
+  return {"step", "time", "kinetic", "strain", "potential",         "total",   "L_x", "L_y",
+          "L_z",  "J_x",  "J_y",     "J_z",    "newton_iterations", "residual"};
 }
 
 namespace {
@@ -31,12 +31,11 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
 }
 
 template <int D>
-void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d,
-                            const solver::NewtonReport* report, bool last) {
+void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d, const solver::NewtonReport* report,
+                            bool last) {
   history_.write_row({static_cast<double>(state.step), state.time, d.kinetic, d.strain, d.potential, d.total,
                       d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z(),
-                      report ? static_cast<double>(report->iterations) : 0.0,
-                      report ? report->final_residual() : 0.0});
+                      report ? static_cast<double>(report->iterations) : 0.0, report ? report->final_residual() : 0.0});
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);
 }
 

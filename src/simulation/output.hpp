@@ -23,8 +23,7 @@ class OutputWriter {
 
   /// Appends the history row of `state` (report: the Newton solve that
   /// produced it, none for the initial state) and writes a VTU if due.
-  void write(const model::State& state, const time::Diagnostics& d, const solver::NewtonReport* report,
-             bool last);
+  void write(const model::State& state, const time::Diagnostics& d, const solver::NewtonReport* report, bool last);
 
  private:
   void write_vtu(const model::State& state);

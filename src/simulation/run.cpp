@@ -1,7 +1,7 @@
 #include "simulation/run.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "core/error.hpp"
 #include "simulation/output.hpp"
@@ -48,9 +48,9 @@ template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const Problem<D> problem = setup<D>(sc);
   const assembly::Assembler<D> assembler(problem.model, sc.time.mass == io::MassKind::lumped);
-  time::Integrator<D> integrator(assembler, stress_scheme(sc.time.scheme),
-                                 {sc.newton.max_iterations, sc.newton.residual_tolerance,
-                                  sc.newton.increment_tolerance});
+  time::Integrator<D> integrator(
+      assembler, stress_scheme(sc.time.scheme),
+      {sc.newton.max_iterations, sc.newton.residual_tolerance, sc.newton.increment_tolerance});
   RunSummary summary;
   summary.output_directory = options.output_directory.value_or(sc.output.directory);
   OutputWriter<D> output(assembler, summary.output_directory, sc.output.vtu_every);
@@ -79,8 +79,14 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
 template <int D>
 CheckSummary check_dim(const io::Scenario& sc) {
   const Problem<D> p = setup<D>(sc);
-  CheckSummary s{D, static_cast<int>(p.model.bodies.size()), p.model.num_nodes(), p.model.num_cells(),
-                 p.model.num_dofs(), static_cast<int>(p.model.prescribed.dofs.size()), step_count(sc.time), 0.0};
+  CheckSummary s{D,
+                 static_cast<int>(p.model.bodies.size()),
+                 p.model.num_nodes(),
+                 p.model.num_cells(),
+                 p.model.num_dofs(),
+                 static_cast<int>(p.model.prescribed.dofs.size()),
+                 step_count(sc.time),
+                 0.0};
   for (int c = 0; c < p.model.num_cells(); ++c)
     s.total_mass += p.model.bodies[p.model.cell_body[c]].density * p.model.geometry[c].volume;
   return s;

@@ -19,7 +19,7 @@ struct RunOptions {
 struct RunSummary {
   int steps = 0;
   double wall_seconds = 0.0;
-  double energy_drift = 0.0;       ///< max |E − E0| / |E0| (or / max(K+W) if E0 = 0)
+  double energy_drift = 0.0;          ///< max |E − E0| / |E0| (or / max(K+W) if E0 = 0)
   Vec3 linear_drift = Vec3::Zero();   ///< per component, max |L_i − L_i0| / max(|L|, p_ref)
   Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / max(|J|, j_ref)
   double mean_newton_iterations = 0.0;

@@ -14,9 +14,8 @@ namespace conserve::simulation {
 namespace {
 
 mesh::Mesh body_mesh(const io::BodySpec& spec, int dim) {
-  mesh::Mesh m = spec.mesh.generator.empty()
-                     ? mesh::extract(mesh::read_msh(spec.mesh.file, dim), spec.mesh.group)
-                     : mesh::generate_mesh(spec.mesh.generator, spec.mesh.parameters);
+  mesh::Mesh m = spec.mesh.generator.empty() ? mesh::extract(mesh::read_msh(spec.mesh.file, dim), spec.mesh.group)
+                                             : mesh::generate_mesh(spec.mesh.generator, spec.mesh.parameters);
   m.points.colwise() += spec.translate.head(m.dim);
   return m;
 }
@@ -26,8 +25,8 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
   std::set<int> seen;
   for (std::size_t i = 0; i < scenario.boundaries.size(); ++i) {
     const io::BoundarySpec& bc = scenario.boundaries[i];
-    const auto body = std::find_if(model.bodies.begin(), model.bodies.end(),
-                                   [&](const model::Body& b) { return b.name == bc.body; });
+    const auto body =
+        std::find_if(model.bodies.begin(), model.bodies.end(), [&](const model::Body& b) { return b.name == bc.body; });
     if (body == model.bodies.end())
       throw InputError(fmt::format("{}: boundary[{}]: no body named '{}'", scenario.file.string(), i, bc.body));
     std::vector<int> nodes;

@@ -1,7 +1,7 @@
 #include "solver/linear_solver.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 
 #include "core/error.hpp"
 
@@ -31,8 +31,8 @@ void LinearSolver::factorize(const SparseMatrix& A) {
   }
   lu_.factorize(A);
   if (lu_.info() != Eigen::Success)
-    throw SolverError(fmt::format("the tangent matrix ({} equations) is singular: UMFPACK could not factorise it",
-                                  A.rows()));
+    throw SolverError(
+        fmt::format("the tangent matrix ({} equations) is singular: UMFPACK could not factorise it", A.rows()));
 }
 
 void LinearSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {

@@ -12,8 +12,7 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
   const double r_tol = settings.residual_tolerance * problem.force_scale();
   const double dx_tol = settings.increment_tolerance * problem.length_scale();
   while (report.residual_norms.back() > r_tol) {
-    if (report.iterations == settings.max_iterations || !std::isfinite(report.residual_norms.back()))
-      return report;
+    if (report.iterations == settings.max_iterations || !std::isfinite(report.residual_norms.back())) return report;
     solver.factorize(problem.tangent());
     solver.solve(-r, dx);
     problem.update(dx);

@@ -31,10 +31,10 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_);
   solver::NewtonReport report = solver::solve_newton(problem, solver_, newton_);
   if (!report.converged)
-    throw SolverError(fmt::format(
-        "Newton did not converge in step {} (t = {:.6g} s): residual {:.3e} after {} iterations "
-        "(try a smaller time step or more [newton].max_iterations)",
-        state.step + 1, t_np1, report.final_residual(), report.iterations));
+    throw SolverError(
+        fmt::format("Newton did not converge in step {} (t = {:.6g} s): residual {:.3e} after {} iterations "
+                    "(try a smaller time step or more [newton].max_iterations)",
+                    state.step + 1, t_np1, report.final_residual(), report.iterations));
   state.v = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
   state.u = std::move(u_np1);
   state.time = t_np1;

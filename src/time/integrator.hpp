@@ -11,8 +11,7 @@ namespace conserve::time {
 template <int D>
 class Integrator {
  public:
-  Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme,
-             solver::NewtonSettings newton);
+  Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme, solver::NewtonSettings newton);
 
   /// Advances `state` by `dt` [s]: predictor u_n + Δt V_n with prescribed
   /// values at t_{n+1}, Newton, then V_{n+1} = (2/Δt)Δu − V_n (19).
@@ -32,7 +31,6 @@ class Integrator {
 };
 
 /// Puts the prescribed values u(t) on `u` and the rates on `v` (if given).
-void apply_prescribed(const model::Prescribed& prescribed, double t, Eigen::VectorXd& u,
-                      Eigen::VectorXd* v = nullptr);
+void apply_prescribed(const model::Prescribed& prescribed, double t, Eigen::VectorXd& u, Eigen::VectorXd* v = nullptr);
 
 }  // namespace conserve::time

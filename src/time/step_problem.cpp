@@ -4,8 +4,8 @@ namespace conserve::time {
 
 template <int D>
 StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
-                            fem::StressScheme scheme, const model::State& start, double dt,
-                            Eigen::VectorXd& u_np1, SparseMatrix& K)
+                            fem::StressScheme scheme, const model::State& start, double dt, Eigen::VectorXd& u_np1,
+                            SparseMatrix& K)
     : assembler_(assembler), mask_(mask), scheme_(scheme), start_(start), dt_(dt), u_np1_(u_np1), K_(K) {
   const Eigen::VectorXd momentum_term = (2.0 / dt) * (assembler.mass() * start.v);
   inertia_n_ = momentum_term + assembler.gravity_force();

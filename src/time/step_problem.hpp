@@ -15,9 +15,8 @@ class StepProblem final : public solver::NewtonProblem {
  public:
   /// `u_np1` holds the predictor on entry and the iterate throughout;
   /// `K` has the assembler's pattern and is overwritten.
-  StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
-              fem::StressScheme scheme, const model::State& start, double dt,
-              Eigen::VectorXd& u_np1, SparseMatrix& K);
+  StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, fem::StressScheme scheme,
+              const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K);
 
   void residual(Eigen::VectorXd& r) override;
   const SparseMatrix& tangent() override;

@@ -70,7 +70,8 @@ TEST(BadInput, UnknownKey) {
 }
 
 TEST(BadInput, NegativeDensity) {
-  const CliResult r = check_with("density", replaced(kGoodScenario, "density = 1000.0", "density = -1000.0"), cube_msh());
+  const CliResult r =
+      check_with("density", replaced(kGoodScenario, "density = 1000.0", "density = -1000.0"), cube_msh());
   expect_one_line_error(r, "scenario.toml:13");
   EXPECT_THAT(r.err, HasSubstr("density"));
 }
@@ -95,8 +96,9 @@ TEST(BadInput, InvertedElement) {
   std::istringstream line(msh.substr(block, eol - block));
   long tag, a, b, c, d;
   line >> tag >> a >> b >> c >> d;
-  msh.replace(block, eol - block, std::to_string(tag) + " " + std::to_string(b) + " " + std::to_string(a) + " " +
-                                      std::to_string(c) + " " + std::to_string(d) + " ");
+  msh.replace(block, eol - block,
+              std::to_string(tag) + " " + std::to_string(b) + " " + std::to_string(a) + " " + std::to_string(c) + " " +
+                  std::to_string(d) + " ");
   const CliResult r = check_with("inverted", kGoodScenario, msh);
   expect_one_line_error(r, "cube.msh");
   EXPECT_THAT(r.err, HasSubstr("inverted"));

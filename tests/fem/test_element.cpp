@@ -83,8 +83,9 @@ double energy_identity_error(StressScheme scheme, bool print) {
     }
     EXPECT_LT(std::abs(moment), 1e-12 * f.norm() * x_mid.norm());
   }
-  if (print) std::printf("[ measured ] max relative |Σf·Δx − ΔW| / W (%dD, %s): %.3e\n", D,
-                         scheme == StressScheme::conserving ? "conserving" : "midpoint", worst);
+  if (print)
+    std::printf("[ measured ] max relative |Σf·Δx − ΔW| / W (%dD, %s): %.3e\n", D,
+                scheme == StressScheme::conserving ? "conserving" : "midpoint", worst);
   return worst;
 }
 

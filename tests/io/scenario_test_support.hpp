@@ -11,14 +11,10 @@
 namespace conserve::io::test {
 
 /// Folder of the test scenarios (mesh files are resolved against it).
-inline std::string scenario_dir() {
-  return CONSERVE_SOURCE_DIR "/tests/data/scenarios";
-}
+inline std::string scenario_dir() { return CONSERVE_SOURCE_DIR "/tests/data/scenarios"; }
 
 /// The file name the parser is given for in-memory scenarios.
-inline std::string case_file() {
-  return scenario_dir() + "/case.toml";
-}
+inline std::string case_file() { return scenario_dir() + "/case.toml"; }
 
 /// [time] on lines 1–3.
 inline constexpr std::string_view kTime = "[time]\nstep = 0.01\nend = 0.1\n";
@@ -33,9 +29,7 @@ inline std::string with_mesh(std::string_view mesh, std::string_view rest = "") 
 }
 
 /// A valid 3D scenario of 11 lines; `rest` starts on line 12.
-inline std::string minimal(std::string_view rest = "") {
-  return with_mesh("file = \"meshes/cube.msh\"\n", rest);
-}
+inline std::string minimal(std::string_view rest = "") { return with_mesh("file = \"meshes/cube.msh\"\n", rest); }
 
 /// Succeeds if parsing `text` throws one InputError line starting with
 /// "case.toml path:LINE: KEY: " and containing `contains`.

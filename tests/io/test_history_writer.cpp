@@ -23,9 +23,7 @@ fs::path scratch_file(const std::string& name) {
   return dir / name;
 }
 
-void write_text(const fs::path& file, const std::string& text) {
-  std::ofstream(file) << text;
-}
+void write_text(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
 
 std::string read_text(const fs::path& file) {
   std::ifstream in(file);

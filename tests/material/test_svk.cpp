@@ -48,8 +48,7 @@ TEST(Svk, TangentMatchesFiniteDifferences) {
       const Mat3 dS = (svk_stress<3>(lame, E + dE) - svk_stress<3>(lame, E - dE)) / (2 * h);
       for (int I = 0; I < 3; ++I)
         for (int J = 0; J < 3; ++J) {
-          const double C = lame.lambda * (I == J) * (K == L) +
-                           lame.mu * ((I == K) * (J == L) + (I == L) * (J == K));
+          const double C = lame.lambda * (I == J) * (K == L) + lame.mu * ((I == K) * (J == L) + (I == L) * (J == K));
           // a symmetric unit perturbation picks ½(ℂ_IJKL + ℂ_IJLK) = ℂ_IJKL
           err = std::max(err, std::abs(dS(I, J) - C));
           max_entry = std::max(max_entry, std::abs(C));

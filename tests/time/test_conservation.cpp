@@ -14,11 +14,11 @@ namespace conserve::time {
 namespace {
 
 struct Drift {
-  double energy = 0.0;                 ///< max |E − E0| / |E0|
-  Vec3 linear = Vec3::Zero();          ///< per component, max |L_i − L_i0| / |L0|
-  Vec3 angular = Vec3::Zero();         ///< per component, max |J_i − J_i0| / |J0|
+  double energy = 0.0;          ///< max |E − E0| / |E0|
+  Vec3 linear = Vec3::Zero();   ///< per component, max |L_i − L_i0| / |L0|
+  Vec3 angular = Vec3::Zero();  ///< per component, max |J_i − J_i0| / |J0|
   double mean_iterations = 0.0;
-  double max_strain_fraction = 0.0;    ///< max W / E over the run (large-deformation evidence)
+  double max_strain_fraction = 0.0;  ///< max W / E over the run (large-deformation evidence)
   std::vector<std::vector<double>> residual_histories;
 };
 
@@ -59,8 +59,8 @@ Drift run_free_body(fem::StressScheme scheme, const Vec3& gravity, int steps) {
 
 void print(const char* name, const Drift& d) {
   std::printf("[ measured ] %s: E %.2e  L (%.2e %.2e %.2e)  J (%.2e %.2e %.2e)  W/E max %.2f  Newton %.2f it/step\n",
-              name, d.energy, d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(),
-              d.angular.z(), d.max_strain_fraction, d.mean_iterations);
+              name, d.energy, d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z(),
+              d.max_strain_fraction, d.mean_iterations);
 }
 
 TEST(Conservation, FreeBody3d) {
@@ -124,8 +124,8 @@ TEST(Newton, ConvergesQuadratically) {
         ++samples;
       }
     }
-    std::printf("[ measured ] Newton: %.2f iterations/step, max e_{k+1}/e_k^2 = %.3f (%d samples)\n",
-                d.mean_iterations, worst, samples);
+    std::printf("[ measured ] Newton: %.2f iterations/step, max e_{k+1}/e_k^2 = %.3f (%d samples)\n", d.mean_iterations,
+                worst, samples);
     ASSERT_GT(samples, 40);
     EXPECT_LT(worst, 10.0);
     EXPECT_LT(d.mean_iterations, 6.0);
