@@ -21,6 +21,9 @@ void print_summary(const RunSummary& s) {
   fmt::print("relative drift: E {:.2e}  L ({:.2e}, {:.2e}, {:.2e})  J ({:.2e}, {:.2e}, {:.2e})\n", s.energy_drift,
              s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
              s.angular_drift.z());
+  if (s.activations + s.releases > 0)
+    fmt::print("contact: {} activations, {} releases, largest gap at activation {:.3e} m\n", s.activations,
+               s.releases, s.max_activation_gap);
   fmt::print("output: {}/history.csv, {}/solution.pvd\n", s.output_directory.string(), s.output_directory.string());
 }
 

@@ -2,7 +2,8 @@
 
 namespace conserve::assembly {
 
-DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs) : dofs_(dofs) {
+DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs)
+    : dofs_(dofs), pattern_size_(A.nonZeros()) {
   std::vector<char> fixed(A.cols(), 0);
   for (int d : dofs) fixed[d] = 1;
   for (int col = 0; col < A.cols(); ++col)

@@ -21,11 +21,14 @@ class DirichletMask {
   /// Zeroes the prescribed entries of a residual.
   void apply(Eigen::VectorXd& r) const;
   [[nodiscard]] const std::vector<int>& dofs() const { return dofs_; }
+  /// Number of entries of the pattern the mask was made for.
+  [[nodiscard]] long pattern_size() const { return pattern_size_; }
 
  private:
   std::vector<int> dofs_;
   std::vector<int> zero_positions_;
   std::vector<int> diagonal_positions_;
+  long pattern_size_ = -1;
 };
 
 }  // namespace conserve::assembly

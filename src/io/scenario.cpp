@@ -1,5 +1,6 @@
 /// Scenario parsing: the file, the top level, [time], [newton], [loads] and
-/// [output]. Bodies and boundaries are in scenario_body.cpp.
+/// [output]. Bodies and boundaries are in scenario_body.cpp, contact pairs
+/// and [active_set] in scenario_contact.cpp.
 #include "io/scenario.hpp"
 
 #include <fmt/format.h>
@@ -74,6 +75,8 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   scenario.output = parse_output(top.table("output"));
   scenario.bodies = detail::parse_bodies(top, file);
   scenario.boundaries = detail::parse_boundaries(top, scenario.bodies);
+  scenario.contacts = detail::parse_contacts(top, scenario.bodies);
+  scenario.active_set = detail::parse_active_set(top.table("active_set"));
   return scenario;
 }
 

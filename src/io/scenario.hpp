@@ -45,6 +45,33 @@ struct BodySpec {
   /// u0(X) = (F0 - I)(X - c). Identity = undeformed. 2D uses the upper 2×2.
   Eigen::Matrix3d initial_deformation = Eigen::Matrix3d::Identity();
   double thickness = 1.0;  ///< out-of-plane thickness in 2D (plane strain) [m]
+  /// All degrees of freedom prescribed: u(t) = velocity·t (the body moves
+  /// rigidly; its material is not used). Rigid bodies may have surface-only
+  /// meshes (no cells), e.g. the generators `square` and `segment`.
+  bool rigid = false;
+};
+
+enum class ContactKind {
+  frictionless,  ///< paper §4.3.2: conserves E, L and J
+  stick,         ///< paper §4.3.1: full stick, conserves E and L
+};
+
+/// A node-to-segment contact pair: the slave surface's nodes against the
+/// master surface's facets. Choose the finer mesh as the slave.
+struct ContactSpec {
+  std::string slave_body;
+  std::string slave_group = "boundary";  ///< facet group; "boundary" = the whole boundary
+  std::string master_body;
+  std::string master_group = "boundary";
+  ContactKind kind = ContactKind::frictionless;
+  /// Far-side cut-off: a facet counts while the slave is less than
+  /// depth_factor × (its longest edge) behind it.
+  double depth_factor = 0.5;
+};
+
+/// Active-set control (ALGORITHM.md §7).
+struct ActiveSetSpec {
+  int max_passes = 10;  ///< solves of one step before giving up on a changing active set
 };
 
 /// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for
@@ -87,6 +114,8 @@ struct Scenario {
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s²]
   std::vector<BodySpec> bodies;
   std::vector<BoundarySpec> boundaries;
+  std::vector<ContactSpec> contacts;
+  ActiveSetSpec active_set;
   OutputSpec output;
 };
 

@@ -1,4 +1,5 @@
-/// Scenario parsing: [[body]] with [body.material], and [[boundary]].
+/// Scenario parsing: [[body]] with [body.material] (rigid or deformable),
+/// and [[boundary]].
 #include <fmt/format.h>
 
 #include <Eigen/LU>
@@ -34,32 +35,52 @@ double parse_thickness(const Section& s) {
   return s.number("thickness");
 }
 
+/// A rigid body only translates: it takes no spin and no initial deformation.
+void reject_on_rigid_body(const Section& s, std::string_view key) {
+  if (s.has(key)) {
+    s.fail(key, "is not allowed on a rigid body",
+           fmt::format("no {} with rigid = true: a rigid body translates at its constant velocity", key));
+  }
+}
+
+/// The material: required for a deformable body, optional (but validated)
+/// for a rigid one, which without it keeps zeros (setup makes it massless).
+MaterialSpec parse_body_material(const Section& s, bool rigid) {
+  if (!s.has("material")) {
+    if (!rigid) s.fail("material", "missing key", "a table [material]; only a rigid body may omit it");
+    return {};
+  }
+  return parse_material(s.table("material"));
+}
+
 BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file) {
   BodySpec body;
   body.name = s.string("name");
   if (body.name.empty()) s.fail("name", "is empty", "a non-empty name");
+  body.rigid = s.boolean("rigid");
+  if (body.rigid) {
+    reject_on_rigid_body(s, "angular_velocity");
+    reject_on_rigid_body(s, "initial_deformation");
+  }
   body.translate = s.vector("translate");
   body.velocity = s.vector("velocity");
   body.angular_velocity = s.angular_velocity("angular_velocity");
   body.initial_deformation = parse_initial_deformation(s);
   body.thickness = parse_thickness(s);
-  body.material = parse_material(s.table("material"));
+  body.material = parse_body_material(s, body.rigid);
   body.mesh = parse_mesh(s.table("mesh"), scenario_file);
   return body;
-}
-
-std::string body_names(const std::vector<BodySpec>& bodies) {
-  std::string names;
-  for (const auto& body : bodies) names += (names.empty() ? "" : ", ") + body.name;
-  return names;
 }
 
 BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodies) {
   BoundarySpec boundary;
   boundary.body = s.string("body");
-  const bool known =
-      std::any_of(bodies.begin(), bodies.end(), [&](const BodySpec& b) { return b.name == boundary.body; });
-  if (!known) s.fail("body", fmt::format("unknown body '{}'", boundary.body), "one of: " + body_names(bodies));
+  const auto body = find_body(bodies, boundary.body);
+  if (!body) s.fail("body", fmt::format("unknown body '{}'", boundary.body), "one of: " + body_names(bodies));
+  if (body->rigid) {
+    s.fail("body", fmt::format("body '{}' is rigid: all its degrees of freedom are already prescribed", body->name),
+           "a deformable body (a rigid body moves at its velocity; it takes no [[boundary]])");
+  }
   boundary.group = s.string("group");
   if (boundary.group.empty()) s.fail("group", "is empty", "\"all\" or the name of a facet group");
   boundary.components = s.components("components");
@@ -69,6 +90,17 @@ BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodie
 }
 
 }  // namespace
+
+const BodySpec* find_body(const std::vector<BodySpec>& bodies, std::string_view name) {
+  const auto it = std::find_if(bodies.begin(), bodies.end(), [&](const BodySpec& b) { return b.name == name; });
+  return it == bodies.end() ? nullptr : &*it;
+}
+
+std::string body_names(const std::vector<BodySpec>& bodies) {
+  std::string names;
+  for (const auto& body : bodies) names += (names.empty() ? "" : ", ") + body.name;
+  return names;
+}
 
 std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::path& scenario_file) {
   std::vector<BodySpec> bodies;

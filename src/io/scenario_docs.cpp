@@ -23,6 +23,8 @@ std::string_view type_name(KeyType type) {
       return "string";
     case KeyType::choice:
       return "string";
+    case KeyType::boolean:
+      return "boolean";
     case KeyType::integer:
       return "integer";
     case KeyType::number:
@@ -48,7 +50,8 @@ std::string default_cell(const KeySpec& key) {
   if (key.default_value.empty()) return "—";
   const bool literal = key.type == KeyType::string || key.type == KeyType::choice;
   if (literal) return fmt::format("`\"{}\"`", key.default_value);
-  if (key.type == KeyType::integer || key.type == KeyType::number) return fmt::format("`{}`", key.default_value);
+  const bool scalar = key.type == KeyType::boolean || key.type == KeyType::integer || key.type == KeyType::number;
+  if (scalar) return fmt::format("`{}`", key.default_value);
   return std::string(key.default_value);
 }
 

@@ -33,6 +33,8 @@ SectionSpec top_level() {
               {.name = "boundary",
                .type = KeyType::table_array,
                .doc = "prescribed displacements, one [[boundary]] table each"},
+              {.name = "contact", .type = KeyType::table_array, .doc = "contact pairs, one [[contact]] table each"},
+              {.name = "active_set", .type = KeyType::table, .doc = "contact active-set control, see [active_set]"},
           }};
 }
 
@@ -124,7 +126,13 @@ SectionSpec body_section() {
               {.name = "name",
                .type = KeyType::string,
                .required = true,
-               .doc = "unique, non-empty name (used by [[boundary]] and in the output)"},
+               .doc = "unique, non-empty name (used by [[boundary]], [[contact]] and in the output)"},
+              {.name = "rigid",
+               .type = KeyType::boolean,
+               .default_value = "false",
+               .doc = "all degrees of freedom prescribed, u(t) = velocity · t: the body translates rigidly at its "
+                      "constant `velocity`; no `angular_velocity`, `initial_deformation` or [[boundary]]; "
+                      "`material` optional; its mesh may be a bare surface (`square`, `segment`)"},
               {.name = "translate",
                .type = KeyType::vector,
                .default_value = "zeros",
@@ -134,7 +142,7 @@ SectionSpec body_section() {
                .type = KeyType::vector,
                .default_value = "zeros",
                .unit = "m/s",
-               .doc = "uniform initial velocity, `dimension` numbers"},
+               .doc = "uniform initial velocity (the constant velocity of a rigid body), `dimension` numbers"},
               {.name = "angular_velocity",
                .type = KeyType::angular_velocity,
                .default_value = "zeros",
@@ -151,7 +159,10 @@ SectionSpec body_section() {
                .unit = "m",
                .min = above(0),
                .doc = "out-of-plane thickness; 2D only (an error in 3D)"},
-              {.name = "material", .type = KeyType::table, .required = true, .doc = "material, see [body.material]"},
+              {.name = "material",
+               .type = KeyType::table,
+               .doc = "material, see [body.material]; required unless `rigid = true` (then it is still validated "
+                      "if given; without it the rigid body is massless)"},
               {.name = "mesh", .type = KeyType::table, .required = true, .doc = "mesh, see [body.mesh]"},
           }};
 }
@@ -231,12 +242,55 @@ SectionSpec boundary_section() {
           }};
 }
 
+SectionSpec contact_section() {
+  return {.name = "contact",
+          .doc = "A node-to-segment contact pair: the nodes of the slave surface against the facets of the master "
+                 "surface; repeat [[contact]] for each pair. A surface is written \"body\" (its whole boundary) "
+                 "or \"body:group\" (a facet group of its mesh, checked when the model is built).",
+          .keys = {
+              {.name = "slave",
+               .type = KeyType::string,
+               .required = true,
+               .doc = "slave surface, \"body\" or \"body:group\" (group default `boundary`); choose the finer "
+                      "mesh; a rigid body cannot be the slave"},
+              {.name = "master",
+               .type = KeyType::string,
+               .required = true,
+               .doc = "master surface, \"body\" or \"body:group\"; not the slave surface itself"},
+              {.name = "kind",
+               .type = KeyType::choice,
+               .required = true,
+               .choices = {"frictionless", "stick"},
+               .doc = "`frictionless` (conserves energy, linear and angular momentum) or `stick` (full stick "
+                      "friction; conserves energy and linear momentum)"},
+              {.name = "depth_factor",
+               .type = KeyType::number,
+               .default_value = "0.5",
+               .min = above(0),
+               .doc = "far-side cut-off: a facet counts while the slave node is less than depth_factor × "
+                      "(the facet's longest edge) behind it"},
+          }};
+}
+
+SectionSpec active_set_section() {
+  return {.name = "active_set",
+          .doc = "Control of the contact active set.",
+          .keys = {
+              {.name = "max_passes",
+               .type = KeyType::integer,
+               .default_value = "10",
+               .min = at_least(1),
+               .doc = "solves of one step before giving up on an active set that keeps changing"},
+          }};
+}
+
 }  // namespace
 
 const std::vector<SectionSpec>& scenario_sections() {
   static const std::vector<SectionSpec> sections = {
-      top_level(),    time_section(),     newton_section(), loads_section(),    output_section(),
-      body_section(), material_section(), mesh_section(),   boundary_section(),
+      top_level(),        time_section(),     newton_section(),   loads_section(),
+      output_section(),   body_section(),     material_section(), mesh_section(),
+      boundary_section(), contact_section(),  active_set_section(),
   };
   return sections;
 }

@@ -13,6 +13,7 @@ namespace conserve::io {
 /// What a key's value must be.
 enum class KeyType {
   string,            ///< a string
+  boolean,           ///< true or false
   choice,            ///< a string out of KeySpec::choices
   integer,           ///< an integer (no floats)
   number,            ///< a finite float or integer
@@ -35,8 +36,8 @@ struct KeySpec {
   std::string_view name{};
   KeyType type = KeyType::number;
   bool required = false;
-  /// Default as shown in the docs. For string, choice, integer and number
-  /// keys it is also the value the parser uses when the key is absent.
+  /// Default as shown in the docs. For string, choice, boolean, integer and
+  /// number keys it is also the value the parser uses when the key is absent.
   std::string_view default_value{};
   std::string_view unit{};                  ///< SI unit, empty if dimensionless
   std::optional<Bound> min{};               ///< lower bound (integer and number keys)

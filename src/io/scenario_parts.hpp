@@ -1,7 +1,10 @@
 #pragma once
-/// Private to the scenario parser: the parsers of the [[body]] and
-/// [[boundary]] tables (scenario_body.cpp, scenario_mesh.cpp).
+/// Private to the scenario parser: the parsers of the [[body]],
+/// [[boundary]] and [[contact]] tables (scenario_body.cpp,
+/// scenario_mesh.cpp, scenario_contact.cpp).
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "io/scenario.hpp"
@@ -9,11 +12,24 @@
 
 namespace conserve::io::detail {
 
+/// The body called `name`, or nullptr.
+const BodySpec* find_body(const std::vector<BodySpec>& bodies, std::string_view name);
+
+/// "a, b, c": the body names, for messages.
+std::string body_names(const std::vector<BodySpec>& bodies);
+
 /// All [[body]] tables of the top level; names are unique.
 std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::path& scenario_file);
 
-/// All [[boundary]] tables of the top level; each names one of `bodies`.
+/// All [[boundary]] tables of the top level; each names one of `bodies`,
+/// not a rigid one.
 std::vector<BoundarySpec> parse_boundaries(const Section& top, const std::vector<BodySpec>& bodies);
+
+/// All [[contact]] tables of the top level (scenario_contact.cpp).
+std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<BodySpec>& bodies);
+
+/// The [active_set] table (defaults if absent).
+ActiveSetSpec parse_active_set(const Section& active_set);
 
 /// One [body.mesh] table: a file (resolved against the scenario's folder,
 /// must exist) or a generator with its parameters checked and completed.

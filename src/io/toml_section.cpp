@@ -77,6 +77,8 @@ std::string describe(const KeySpec& key, int dimension) {
       return "a string";
     case KeyType::choice:
       return fmt::format("one of: {}", fmt::join(key.choices, ", "));
+    case KeyType::boolean:
+      return "true or false";
     case KeyType::integer:
       return with_range("an integer", key);
     case KeyType::number:
@@ -168,6 +170,14 @@ std::string Section::string(std::string_view key) const {
       spec.type != KeyType::choice || std::find(spec.choices.begin(), spec.choices.end(), text) != spec.choices.end();
   if (!allowed) fail(key, fmt::format("'{}' is not allowed", text), describe(spec, ctx_->dimension));
   return text;
+}
+
+bool Section::boolean(std::string_view key) const {
+  const auto& spec = spec_of(key);
+  const auto* node = find(key);
+  if (!node) return spec.default_value == "true";
+  if (!node->is_boolean()) fail(key, fmt::format("got {}", type_of(*node)), describe(spec, ctx_->dimension));
+  return node->as_boolean()->get();
 }
 
 int Section::integer(std::string_view key) const {

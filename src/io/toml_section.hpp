@@ -58,6 +58,8 @@ class Section {
   [[noreturn]] void fail_table(std::string_view what, std::string_view expected) const;
 
   [[nodiscard]] std::string string(std::string_view key) const;
+  /// The declared default ("true"/"false") if absent.
+  [[nodiscard]] bool boolean(std::string_view key) const;
   [[nodiscard]] int integer(std::string_view key) const;
   [[nodiscard]] double number(std::string_view key) const;
   /// `dimension` numbers, padded with zeros; zeros if absent.

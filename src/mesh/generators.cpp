@@ -1,5 +1,6 @@
 // Built-in generators: the catalog, parameter validation, and the
-// OpenCASCADE geometry of each shape (meshed by gmsh_mesher.cpp). The
+// OpenCASCADE geometry of each shape (meshed by gmsh_mesher.cpp), and the
+// structured bare surfaces (square, segment) for rigid bodies. The
 // geometry is built in coordinates normalised by the largest length
 // parameter, so that OpenCASCADE's and Gmsh's absolute tolerances act the
 // same at every scale; the points are scaled back at the end.
@@ -8,6 +9,7 @@
 #include <fmt/format.h>
 #include <gmsh.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -24,11 +26,14 @@ namespace occ = gmsh::model::occ;
 
 /// A generator: catalog entry, analytic volume [m³] / area [m²], geometry
 /// and the classification of its boundary entities into facet groups.
+/// Surface-only generators instead set `surface`, which makes the mesh
+/// directly (structured, no Gmsh); `measure` then estimates its facets.
 struct Generator {
   GeneratorInfo info;
   double (*measure)(const Params&) = nullptr;
   void (*build)(const Params&) = nullptr;
   std::string (*classify)(const EntityShape&, const Params&) = nullptr;
+  Mesh (*surface)(const Params&) = nullptr;
 };
 
 constexpr double kPi = std::numbers::pi;
@@ -187,6 +192,82 @@ Generator annulus() {
           inner_or_outer};
 }
 
+GeneratorParameter facet_size(const std::string& count) {
+  return length("size", "target facet edge length: " + count);
+}
+
+/// Cell-less mesh of `facets` (dim × n) on `points`: cell group "body"
+/// empty, facet groups "surface" and "boundary" both these facets.
+Mesh surface_mesh(int dim, Eigen::MatrixXd points, Eigen::MatrixXi facets) {
+  Mesh mesh;
+  mesh.dim = dim;
+  mesh.points = std::move(points);
+  mesh.cells.resize(dim + 1, 0);
+  mesh.cell_groups["body"] = {};
+  mesh.facet_groups["surface"].facets = facets;
+  mesh.facet_groups["boundary"].facets = std::move(facets);
+  return mesh;
+}
+
+int divisions(double length, double size) { return std::max(1, static_cast<int>(std::ceil(length / size - 1e-9))); }
+
+/// lx × ly in the plane z = 0: a grid of nx × ny squares, two triangles
+/// each, counter-clockwise seen from +z (normal +z).
+Mesh square_mesh(const Params& p) {
+  const int nx = divisions(p.at("lx"), p.at("size")), ny = divisions(p.at("ly"), p.at("size"));
+  Eigen::MatrixXd points = Eigen::MatrixXd::Zero(3, (nx + 1) * (ny + 1));
+  const auto node = [nx](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      points(0, node(i, j)) = p.at("lx") * (static_cast<double>(i) / nx - 0.5);
+      points(1, node(i, j)) = p.at("ly") * (static_cast<double>(j) / ny - 0.5);
+    }
+  Eigen::MatrixXi facets(3, 2 * nx * ny);
+  int f = 0;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      facets.col(f++) << node(i, j), node(i + 1, j), node(i + 1, j + 1);
+      facets.col(f++) << node(i, j), node(i + 1, j + 1), node(i, j + 1);
+    }
+  return surface_mesh(3, std::move(points), std::move(facets));
+}
+
+/// The segment y = 0, |x| ≤ lx/2 in n pieces, each from larger to smaller x
+/// so that its normal (t_y, −t_x) is +y.
+Mesh segment_mesh(const Params& p) {
+  const int n = divisions(p.at("lx"), p.at("size"));
+  Eigen::MatrixXd points = Eigen::MatrixXd::Zero(2, n + 1);
+  for (int i = 0; i <= n; ++i) points(0, i) = p.at("lx") * (static_cast<double>(i) / n - 0.5);
+  Eigen::MatrixXi facets(2, n);
+  for (int i = 0; i < n; ++i) facets.col(i) << i + 1, i;
+  return surface_mesh(2, std::move(points), std::move(facets));
+}
+
+Generator square() {
+  return {{3,
+           "Flat square [-lx/2, lx/2] × [-ly/2, ly/2] in the plane z = 0, a bare surface of triangles without "
+           "cells (only for a rigid body). Facet group: surface (= boundary), normals +z.",
+           {length("lx", "edge length along x"), length("ly", "edge length along y"),
+            facet_size("ceil(lx/size) × ceil(ly/size) squares, two triangles each")}},
+          [](const Params& p) {
+            return 2.0 * divisions(p.at("lx"), p.at("size")) * divisions(p.at("ly"), p.at("size"));
+          },
+          nullptr,
+          nullptr,
+          square_mesh};
+}
+
+Generator segment() {
+  return {{2,
+           "Straight segment y = 0, -lx/2 ≤ x ≤ lx/2, a bare line of 2-node facets without cells (only for a "
+           "rigid body). Facet group: surface (= boundary), normals +y.",
+           {length("lx", "length along x"), facet_size("ceil(lx/size) equal facets")}},
+          [](const Params& p) { return static_cast<double>(divisions(p.at("lx"), p.at("size"))); },
+          nullptr,
+          nullptr,
+          segment_mesh};
+}
+
 const std::map<std::string, Generator>& generators() {
   static const std::map<std::string, Generator> all = {
       {"box", box()},
@@ -198,6 +279,8 @@ const std::map<std::string, Generator>& generators() {
       {"rectangle", rectangle()},
       {"disc", disc()},
       {"annulus", annulus()},
+      {"square", square()},
+      {"segment", segment()},
   };
   return all;
 }
@@ -244,7 +327,8 @@ void check_shape(const std::string& kind, const Generator& generator, const Para
                                  p.at("inner_radius"), p.at("outer_radius")));
   const int dim = generator.info.dim;
   const double simplex = dim == 3 ? std::sqrt(2.0) / 12.0 : std::sqrt(3.0) / 4.0;  // regular simplex of edge 1
-  const double cells = generator.measure(p) / (simplex * std::pow(p.at("size"), dim));
+  const double cells =
+      generator.surface ? generator.measure(p) : generator.measure(p) / (simplex * std::pow(p.at("size"), dim));
   if (cells > kMaxCells)
     throw InputError(
         fmt::format("generator '{}': size = {:g} would make about {:.3g} cells (expected a size giving "
@@ -277,6 +361,7 @@ Mesh generate_mesh(const std::string& kind, const std::map<std::string, double>&
   const Generator& generator = find_generator(kind);
   Params p = checked_parameters(kind, generator.info, params);
   check_shape(kind, generator, p);
+  if (generator.surface) return generator.surface(p);
   detail::GmshRecipe recipe;
   recipe.name = kind;
   recipe.dim = generator.info.dim;

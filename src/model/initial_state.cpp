@@ -10,9 +10,25 @@ State rest_state(const Model<D>& model) {
   return s;
 }
 
+namespace {
+
+/// Mean of a body's nodal positions at displacements u (the centroid of a
+/// body without cells, e.g. a rigid bare surface).
+template <int D>
+Vec<D> node_mean(const Model<D>& model, const Body& b, const Eigen::VectorXd& u) {
+  Vec<D> sum = Vec<D>::Zero();
+  for (int n = b.first_node; n < b.first_node + b.num_nodes; ++n)
+    sum += model.X.col(n) + u.template segment<D>(n * D);
+  return b.num_nodes > 0 ? Vec<D>(sum / b.num_nodes) : sum;
+}
+
+}  // namespace
+
+/// A body without cells (no volume) has the mean of its nodes as centroid.
 template <int D>
 Vec<D> body_centroid(const Model<D>& model, int body, const Eigen::VectorXd& u) {
   const Body& b = model.bodies[body];
+  if (b.num_cells == 0) return node_mean<D>(model, b, u);
   Vec<D> sum = Vec<D>::Zero();
   double volume = 0.0;
   for (int c = b.first_cell; c < b.first_cell + b.num_cells; ++c) {

@@ -1,6 +1,7 @@
 #include "model/model.hpp"
 
 #include <fmt/format.h>
+
 #include <algorithm>
 #include <numeric>
 
@@ -8,15 +9,32 @@
 
 namespace conserve::model {
 
+namespace {
+
+/// The mesh's shape fits a D-dimensional model: D coordinates, D + 1
+/// nodes per cell (any number of cells, also none: a bare surface).
+template <int D>
+void check_shape(const mesh::Mesh& mesh, const std::string& name) {
+  if (mesh.dim != D) throw InputError(fmt::format("body '{}': mesh is {}D but the scenario is {}D", name, mesh.dim, D));
+  if (mesh.points.rows() < D)
+    throw InputError(fmt::format("body '{}': mesh points have {} coordinates (expected {})", name, mesh.points.rows(), D));
+  if (mesh.num_cells() > 0 && mesh.cells.rows() != D + 1)
+    throw InputError(fmt::format("body '{}': mesh cells have {} nodes (expected {})", name, mesh.cells.rows(), D + 1));
+}
+
+}  // namespace
+
+/// A mesh without cells (a bare surface of a rigid body) gives a body with
+/// num_cells = 0 whose nodes are the mesh's points.
 template <int D>
 Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name, const material::Lame& lame,
                double density, double thickness) {
-  if (mesh.dim != D) throw InputError(fmt::format("body '{}': mesh is {}D but the scenario is {}D", name, mesh.dim, D));
+  check_shape<D>(mesh, name);
   Body body{name, model.num_nodes(), mesh.num_nodes(), model.num_cells(), mesh.num_cells(), lame, density, {}};
   model.X.conservativeResize(D, body.first_node + body.num_nodes);
   model.X.rightCols(body.num_nodes) = mesh.points.topRows(D);
   model.cells.conservativeResize(D + 1, body.first_cell + body.num_cells);
-  model.cells.rightCols(body.num_cells) = mesh.cells.array() + body.first_node;
+  if (body.num_cells > 0) model.cells.rightCols(body.num_cells) = mesh.cells.array() + body.first_node;
   for (int c = 0; c < body.num_cells; ++c) {
     fem::NodeMatrix<D> Xc;
     for (int a = 0; a <= D; ++a) Xc.col(a) = model.X.col(model.cells(a, body.first_cell + c));

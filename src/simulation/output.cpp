@@ -2,13 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "core/error.hpp"
 
 namespace conserve::simulation {
 
 std::vector<std::string> history_columns() {
-  return {"step", "time", "kinetic", "strain", "potential",         "total",   "L_x", "L_y",
-          "L_z",  "J_x",  "J_y",     "J_z",    "newton_iterations", "residual"};
+  return {"step",     "time",       "kinetic",         "strain",      "potential", "total",
+          "L_x",      "L_y",        "L_z",             "J_x",         "J_y",       "J_z",
+          "newton_iterations",      "residual",        "active_contacts",          "activations",
+          "releases", "active_set_passes", "max_activation_gap", "contact_force"};
 }
 
 namespace {
@@ -22,8 +26,9 @@ std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) 
 
 template <int D>
 OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory,
-                              int vtu_every)
+                              int vtu_every, const contact::ActiveSet<D>* contacts)
     : assembler_(assembler),
+      contacts_(contacts),
       directory_(prepared(directory, vtu_every)),
       vtu_every_(vtu_every),
       history_(directory / "history.csv", history_columns()) {
@@ -31,11 +36,17 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
 }
 
 template <int D>
-void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d, const solver::NewtonReport* report,
-                            bool last) {
+void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d, const StepRecord& step, bool last) {
+  const auto& forces = contacts_ ? contacts_->normal_forces() : std::vector<double>{};
+  double contact_force = 0.0;
+  for (double f : forces) contact_force += f;
+  const contact::StepContactStats& c = step.contact;
   history_.write_row({static_cast<double>(state.step), state.time, d.kinetic, d.strain, d.potential, d.total,
                       d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z(),
-                      report ? static_cast<double>(report->iterations) : 0.0, report ? report->final_residual() : 0.0});
+                      static_cast<double>(step.newton.iterations), step.newton.final_residual(),
+                      static_cast<double>(forces.size()), static_cast<double>(c.activations),
+                      static_cast<double>(c.releases), static_cast<double>(c.passes), c.max_activation_gap,
+                      contact_force});
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);
 }
 
@@ -53,6 +64,7 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   };
   point_vector("displacement", state.u);
   point_vector("velocity", state.v);
+  if (contacts_) grid.point_data.push_back(contact_field(model.num_nodes()));
   io::VtuField stress{"cauchy_stress", 9, {}}, energy{"strain_energy_density", 1, {}}, body{"body", 1, {}};
   for (int c = 0; c < model.num_cells(); ++c) {
     const auto& lame = model.bodies[model.cell_body[c]].lame;
@@ -66,6 +78,17 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   const std::string name = fmt::format("vtu/step_{:06d}.vtu", state.step);
   io::write_vtu(directory_ / name, grid);
   pvd_->add(state.time, name);
+}
+
+template <int D>
+io::VtuField OutputWriter<D>::contact_field(int num_nodes) const {
+  // Normal contact force f_N on active slaves [N]; NaN elsewhere, so that
+  // ParaView shows the active set by colour (and hides the rest).
+  io::VtuField f{"contact_normal_force", 1, std::vector<double>(num_nodes, std::nan(""))};
+  const auto& constraints = contacts_->constraints();
+  const auto& forces = contacts_->normal_forces();
+  for (std::size_t i = 0; i < constraints.size(); ++i) f.values[constraints[i].slave] = forces[i];
+  return f;
 }
 
 template class OutputWriter<2>;

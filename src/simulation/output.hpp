@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "assembly/assembler.hpp"
+#include "contact/active_set.hpp"
 #include "io/history_writer.hpp"
 #include "io/vtu_writer.hpp"
 #include "solver/newton.hpp"
@@ -15,19 +16,30 @@ namespace conserve::simulation {
 /// Column names of history.csv, in order.
 std::vector<std::string> history_columns();
 
+/// What one step did, for the history.
+struct StepRecord {
+  solver::NewtonReport newton;
+  contact::StepContactStats contact;
+};
+
 template <int D>
 class OutputWriter {
  public:
-  /// Creates `directory` (and vtu/ in it when vtu_every > 0).
-  OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory, int vtu_every);
+  /// Creates `directory` (and vtu/ in it when vtu_every > 0). `contacts`
+  /// (may be null) adds the contact columns' values and the VTU field
+  /// contact_normal_force.
+  OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory, int vtu_every,
+               const contact::ActiveSet<D>* contacts = nullptr);
 
-  /// Appends the history row of `state` (report: the Newton solve that
-  /// produced it, none for the initial state) and writes a VTU if due.
-  void write(const model::State& state, const time::Diagnostics& d, const solver::NewtonReport* report, bool last);
+  /// Appends the history row of `state` (step: what the step that produced
+  /// it did; empty for the initial state) and writes a VTU if due.
+  void write(const model::State& state, const time::Diagnostics& d, const StepRecord& step, bool last);
 
  private:
   void write_vtu(const model::State& state);
+  [[nodiscard]] io::VtuField contact_field(int num_nodes) const;
   const assembly::Assembler<D>& assembler_;
+  const contact::ActiveSet<D>* contacts_;
   std::filesystem::path directory_;
   int vtu_every_;
   io::HistoryWriter history_;

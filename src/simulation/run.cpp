@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "simulation/contact_setup.hpp"
 #include "simulation/output.hpp"
 #include "simulation/progress.hpp"
 #include "simulation/setup.hpp"
@@ -48,26 +49,32 @@ template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const Problem<D> problem = setup<D>(sc);
   const assembly::Assembler<D> assembler(problem.model, sc.time.mass == io::MassKind::lumped);
+  contact::ActiveSet<D> contacts(problem.model, make_contact_pairs<D>(sc, problem.model));
   time::Integrator<D> integrator(
       assembler, stress_scheme(sc.time.scheme),
-      {sc.newton.max_iterations, sc.newton.residual_tolerance, sc.newton.increment_tolerance});
+      {sc.newton.max_iterations, sc.newton.residual_tolerance, sc.newton.increment_tolerance}, &contacts,
+      sc.active_set.max_passes);
   RunSummary summary;
   summary.output_directory = options.output_directory.value_or(sc.output.directory);
-  OutputWriter<D> output(assembler, summary.output_directory, sc.output.vtu_every);
+  OutputWriter<D> output(assembler, summary.output_directory, sc.output.vtu_every,
+                         contacts.empty() ? nullptr : &contacts);
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(d0);
   const int steps = std::min(step_count(sc.time), options.max_steps.value_or(1 << 30));
-  output.write(state, d0, nullptr, steps == 0);
+  output.write(state, d0, StepRecord{}, steps == 0);
   ProgressLine progress(options.progress, steps, sc.output.progress_every);
   for (int n = 1; n <= steps; ++n) {
-    const solver::NewtonReport report = integrator.step(state, sc.time.step);
+    const StepRecord record{integrator.step(state, sc.time.step), integrator.contact_stats()};
     const time::Diagnostics d = time::diagnostics<D>(assembler, state);
     const double e = drift.add(d, summary);
-    output.write(state, d, &report, n == steps);
-    summary.mean_newton_iterations += report.iterations;
-    summary.max_newton_iterations = std::max(summary.max_newton_iterations, report.iterations);
-    progress.update(n, state.time, e, report.iterations);
+    output.write(state, d, record, n == steps);
+    summary.mean_newton_iterations += record.newton.iterations;
+    summary.max_newton_iterations = std::max(summary.max_newton_iterations, record.newton.iterations);
+    summary.activations += record.contact.activations;
+    summary.releases += record.contact.releases;
+    summary.max_activation_gap = std::max(summary.max_activation_gap, record.contact.max_activation_gap);
+    progress.update(n, state.time, e, record.newton.iterations);
   }
   progress.finish();
   summary.steps = steps;
@@ -79,6 +86,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
 template <int D>
 CheckSummary check_dim(const io::Scenario& sc) {
   const Problem<D> p = setup<D>(sc);
+  make_contact_pairs<D>(sc, p.model);  // resolves the contact surfaces
   CheckSummary s{D,
                  static_cast<int>(p.model.bodies.size()),
                  p.model.num_nodes(),

@@ -24,6 +24,9 @@ struct RunSummary {
   Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / max(|J|, j_ref)
   double mean_newton_iterations = 0.0;
   int max_newton_iterations = 0;
+  int activations = 0;              ///< contact activations over the run
+  int releases = 0;                 ///< contact releases over the run
+  double max_activation_gap = 0.0;  ///< largest gap of a slave at activation [m]
   std::filesystem::path output_directory;
 };
 

@@ -1,6 +1,8 @@
 #include "simulation/setup.hpp"
 
 #include <fmt/format.h>
+
+#include <algorithm>
 #include <set>
 
 #include "core/error.hpp"
@@ -20,6 +22,40 @@ mesh::Mesh body_mesh(const io::BodySpec& spec, int dim) {
   return m;
 }
 
+/// Placeholder material of a rigid body given without one: its cells' rows
+/// are all masked by the prescribed dofs, so the Lamé constants never act
+/// on a free dof (and a rigid translation has no strain anyway); density 0
+/// makes the body massless, like a bare surface, so that it adds nothing
+/// to the energies and momenta.
+io::MaterialSpec rigid_placeholder() { return {.young = 1.0, .poisson = 0.0, .density = 0.0}; }
+
+/// Adds body `i` of the scenario to the model.
+template <int D>
+void add_body(const io::Scenario& scenario, std::size_t i, model::Model<D>& model) {
+  const io::BodySpec& spec = scenario.bodies[i];
+  try {
+    const io::MaterialSpec material = spec.rigid && !(spec.material.density > 0.0) ? rigid_placeholder() : spec.material;
+    const auto lame = material::Lame::from_young_poisson(material.young, material.poisson);
+    const mesh::Mesh mesh = body_mesh(spec, D);
+    if (mesh.num_cells() == 0 && !spec.rigid)
+      throw InputError("the mesh has no cells; only a rigid body may be a bare surface (set rigid = true)");
+    model::add_body<D>(model, mesh, spec.name, lame, material.density, spec.thickness);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: body[{}] '{}': {}", scenario.file.string(), i, spec.name, e.what()));
+  }
+}
+
+/// Every dof of a rigid body: u = velocity · t.
+template <int D>
+void prescribe_rigid(const io::BodySpec& spec, const model::Body& body, model::Prescribed& prescribed) {
+  for (int n = body.first_node; n < body.first_node + body.num_nodes; ++n)
+    for (int k = 0; k < D; ++k) {
+      prescribed.dofs.push_back(model::dof<D>(n, k));
+      prescribed.value.push_back(0.0);
+      prescribed.rate.push_back(spec.velocity[k]);
+    }
+}
+
 template <int D>
 void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
   std::set<int> seen;
@@ -29,6 +65,10 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
         std::find_if(model.bodies.begin(), model.bodies.end(), [&](const model::Body& b) { return b.name == bc.body; });
     if (body == model.bodies.end())
       throw InputError(fmt::format("{}: boundary[{}]: no body named '{}'", scenario.file.string(), i, bc.body));
+    if (scenario.bodies[static_cast<std::size_t>(body - model.bodies.begin())].rigid)
+      throw InputError(fmt::format("{}: boundary[{}]: body '{}' is rigid: all its degrees of freedom are already "
+                                   "prescribed (remove this [[boundary]])",
+                                   scenario.file.string(), i, bc.body));
     std::vector<int> nodes;
     try {
       nodes = model::group_nodes(*body, bc.group);
@@ -46,6 +86,8 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
         model.prescribed.rate.push_back(bc.rate[k]);
       }
   }
+  for (std::size_t i = 0; i < scenario.bodies.size(); ++i)
+    if (scenario.bodies[i].rigid) prescribe_rigid<D>(scenario.bodies[i], model.bodies[i], model.prescribed);
 }
 
 }  // namespace
@@ -53,20 +95,13 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
 template <int D>
 Problem<D> setup(const io::Scenario& scenario) {
   Problem<D> p;
-  for (std::size_t i = 0; i < scenario.bodies.size(); ++i) {
-    const io::BodySpec& spec = scenario.bodies[i];
-    try {
-      const auto lame = material::Lame::from_young_poisson(spec.material.young, spec.material.poisson);
-      model::add_body<D>(p.model, body_mesh(spec, D), spec.name, lame, spec.material.density, spec.thickness);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: body[{}] '{}': {}", scenario.file.string(), i, spec.name, e.what()));
-    }
-  }
+  for (std::size_t i = 0; i < scenario.bodies.size(); ++i) add_body<D>(scenario, i, p.model);
   p.model.gravity = scenario.gravity.head<D>();
   add_prescribed<D>(scenario, p.model);
   p.initial = model::rest_state<D>(p.model);
   for (std::size_t i = 0; i < scenario.bodies.size(); ++i) {
     const io::BodySpec& spec = scenario.bodies[i];
+    if (spec.rigid) continue;  // fully prescribed: u and v come from apply_prescribed below
     model::set_initial_motion<D>(p.model, static_cast<int>(i),
                                  {spec.initial_deformation, spec.velocity, spec.angular_velocity}, p.initial);
   }

@@ -16,30 +16,49 @@ void apply_prescribed(const model::Prescribed& p, double t, Eigen::VectorXd& u, 
 
 template <int D>
 Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme,
-                          solver::NewtonSettings newton)
+                          solver::NewtonSettings newton, contact::ActiveSet<D>* contacts, int max_passes)
     : assembler_(assembler),
       scheme_(scheme),
       newton_(newton),
       mask_(assembler.mass(), assembler.model().prescribed.dofs),
-      K_(assembler.pattern().make_matrix()) {}
+      K_(assembler.pattern().make_matrix()),
+      contacts_(contacts && !contacts->empty() ? contacts : nullptr),
+      max_passes_(max_passes) {}
 
 template <int D>
 solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   const double t_np1 = state.time + dt;
   Eigen::VectorXd u_np1 = state.u + dt * state.v;
   apply_prescribed(assembler_.model().prescribed, t_np1, u_np1);
-  StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_);
-  solver::NewtonReport report = solver::solve_newton(problem, solver_, newton_);
-  if (!report.converged)
-    throw SolverError(
-        fmt::format("Newton did not converge in step {} (t = {:.6g} s): residual {:.3e} after {} iterations "
-                    "(try a smaller time step or more [newton].max_iterations)",
-                    state.step + 1, t_np1, report.final_residual(), report.iterations));
+  stats_ = {};
+  if (contacts_) contacts_->begin_step();
+  solver::NewtonReport total;
+  for (bool again = true; again;) {
+    const contact::Elimination<D> elimination(assembler_.model().num_nodes(),
+                                              contacts_ ? contacts_->constraints() : std::vector<contact::Constraint<D>>{});
+    elimination.enforce(state.u, u_np1);
+    StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, &elimination);
+    const solver::NewtonReport report = solver::solve_newton(problem, solver_, newton_);
+    if (!report.converged)
+      throw SolverError(fmt::format(
+          "Newton did not converge in step {} (t = {:.6g} s): residual {:.3e} after {} iterations "
+          "(try a smaller time step or more [newton].max_iterations)",
+          state.step + 1, t_np1, report.final_residual(), report.iterations));
+    total.converged = true;
+    total.iterations += report.iterations;
+    total.residual_norms = report.residual_norms;
+    again = contacts_ && contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
+    if (again && stats_.passes >= max_passes_)
+      throw SolverError(fmt::format(
+          "the contact active set did not settle in step {} (t = {:.6g} s) after {} passes "
+          "({} activations, {} releases); raise [active_set].max_passes or reduce the time step",
+          state.step + 1, t_np1, stats_.passes, stats_.activations, stats_.releases));
+  }
   state.v = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
   state.u = std::move(u_np1);
   state.time = t_np1;
   ++state.step;
-  return report;
+  return total;
 }
 
 template class Integrator<2>;

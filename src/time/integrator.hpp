@@ -3,6 +3,7 @@
 /// reusing the tangent's pattern and UMFPACK's symbolic analysis.
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
+#include "contact/active_set.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
 
@@ -11,14 +12,23 @@ namespace conserve::time {
 template <int D>
 class Integrator {
  public:
-  Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme, solver::NewtonSettings newton);
+  /// `contacts` (may be null) holds the contact pairs and the active set;
+  /// it must outlive the integrator. `max_passes` bounds the solves of one
+  /// step while the active set changes.
+  Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme, solver::NewtonSettings newton,
+             contact::ActiveSet<D>* contacts = nullptr, int max_passes = 10);
 
   /// Advances `state` by `dt` [s]: predictor u_n + Δt V_n with prescribed
-  /// values at t_{n+1}, Newton, then V_{n+1} = (2/Δt)Δu − V_n (19).
-  /// Throws SolverError naming the step if Newton does not converge; the
-  /// state is then left unchanged.
+  /// values at t_{n+1} and the active constraints enforced, Newton on the
+  /// reduced system, the active-set update and, if the set changed, the same
+  /// step again (ALGORITHM.md §7); then V_{n+1} = (2/Δt)Δu − V_n (19).
+  /// The report's iterations count all passes. Throws SolverError naming
+  /// the step if Newton does not converge or the active set does not settle
+  /// in max_passes; the state is then left unchanged.
   solver::NewtonReport step(model::State& state, double dt);
 
+  /// What the active set did in the last step.
+  [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
   [[nodiscard]] const solver::LinearSolver& linear_solver() const { return solver_; }
 
  private:
@@ -28,6 +38,9 @@ class Integrator {
   assembly::DirichletMask mask_;
   SparseMatrix K_;
   solver::LinearSolver solver_;
+  contact::ActiveSet<D>* contacts_;
+  int max_passes_;
+  contact::StepContactStats stats_;
 };
 
 /// Puts the prescribed values u(t) on `u` and the rates on `v` (if given).

@@ -5,8 +5,15 @@ namespace conserve::time {
 template <int D>
 StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
                             fem::StressScheme scheme, const model::State& start, double dt, Eigen::VectorXd& u_np1,
-                            SparseMatrix& K)
-    : assembler_(assembler), mask_(mask), scheme_(scheme), start_(start), dt_(dt), u_np1_(u_np1), K_(K) {
+                            SparseMatrix& K, const contact::Elimination<D>* elimination)
+    : assembler_(assembler),
+      mask_(mask),
+      scheme_(scheme),
+      start_(start),
+      dt_(dt),
+      u_np1_(u_np1),
+      K_(K),
+      elimination_(elimination) {
   const Eigen::VectorXd momentum_term = (2.0 / dt) * (assembler.mass() * start.v);
   inertia_n_ = momentum_term + assembler.gravity_force();
   Eigen::VectorXd f_n;
@@ -17,7 +24,12 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
 template <int D>
 void StepProblem<D>::residual(Eigen::VectorXd& r) {
   assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_);
-  r = (2.0 / (dt_ * dt_)) * (assembler_.mass() * (u_np1_ - start_.u)) - inertia_n_ + f_int_;
+  g_ = (2.0 / (dt_ * dt_)) * (assembler_.mass() * (u_np1_ - start_.u)) - inertia_n_ + f_int_;
+  if (eliminating()) {
+    elimination_->reduce_residual(g_, r);  // (41), (56)
+  } else {
+    r = g_;
+  }
   mask_.apply(r);
 }
 
@@ -28,8 +40,26 @@ const SparseMatrix& StepProblem<D>::tangent() {
   const SparseMatrix& M = assembler_.mass();
   Eigen::Map<Eigen::VectorXd>(K_.valuePtr(), K_.nonZeros()) +=
       c * Eigen::Map<const Eigen::VectorXd>(M.valuePtr(), M.nonZeros());
-  mask_.apply(K_, c * M.diagonal().mean());
-  return K_;
+  const double diagonal = c * M.diagonal().mean();
+  if (!eliminating()) {
+    mask_.apply(K_, diagonal);
+    return K_;
+  }
+  elimination_->reduce_tangent(K_, K_reduced_);  // (43), (58)
+  if (reduced_mask_.pattern_size() != K_reduced_.nonZeros())
+    reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
+  reduced_mask_.apply(K_reduced_, diagonal);
+  return K_reduced_;
+}
+
+template <int D>
+void StepProblem<D>::update(const Eigen::VectorXd& increment) {
+  if (eliminating()) {
+    elimination_->expand(increment, du_);  // (45)
+    u_np1_ += du_;
+  } else {
+    u_np1_ += increment;
+  }
 }
 
 template class StepProblem<2>;

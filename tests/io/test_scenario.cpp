@@ -31,8 +31,42 @@ TEST(Scenario, Full3dScenarioParsesEveryField) {
   EXPECT_EQ(s.output.directory, fs::path("results/full"));
   EXPECT_EQ(s.output.vtu_every, 5);
   EXPECT_EQ(s.output.progress_every, 100);
-  ASSERT_EQ(s.bodies.size(), 2u);
+  ASSERT_EQ(s.bodies.size(), 3u);
   ASSERT_EQ(s.boundaries.size(), 2u);
+  EXPECT_FALSE(s.bodies[0].rigid);
+  EXPECT_FALSE(s.bodies[1].rigid);
+  EXPECT_EQ(s.active_set.max_passes, 4);
+}
+
+TEST(Scenario, Full3dRigidBody) {
+  const auto s = read_scenario(fs::path(scenario_dir()) / "full_3d.toml");
+  const auto& wall = s.bodies.at(2);
+  EXPECT_EQ(wall.name, "wall");
+  EXPECT_TRUE(wall.rigid);
+  EXPECT_EQ(wall.velocity, Eigen::Vector3d(-0.5, 0, 0));
+  EXPECT_EQ(wall.translate, Eigen::Vector3d(2, 0, 0));
+  EXPECT_EQ(wall.material.density, 0.0);  // no material: left at zero
+  EXPECT_EQ(wall.mesh.generator, "square");
+  EXPECT_EQ(wall.mesh.parameters, (std::map<std::string, double>{{"lx", 1}, {"ly", 2}, {"size", 0.5}}));
+}
+
+TEST(Scenario, Full3dContacts) {
+  const auto s = read_scenario(fs::path(scenario_dir()) / "full_3d.toml");
+  ASSERT_EQ(s.contacts.size(), 2u);
+  const auto& floor = s.contacts[0];
+  EXPECT_EQ(floor.slave_body, "cube");
+  EXPECT_EQ(floor.slave_group, "boundary");
+  EXPECT_EQ(floor.master_body, "floor");
+  EXPECT_EQ(floor.master_group, "top");
+  EXPECT_EQ(floor.kind, ContactKind::frictionless);
+  EXPECT_EQ(floor.depth_factor, 0.25);
+  const auto& wall = s.contacts[1];
+  EXPECT_EQ(wall.slave_body, "cube");
+  EXPECT_EQ(wall.slave_group, "top");
+  EXPECT_EQ(wall.master_body, "wall");
+  EXPECT_EQ(wall.master_group, "boundary");
+  EXPECT_EQ(wall.kind, ContactKind::stick);
+  EXPECT_EQ(wall.depth_factor, 0.5);
 }
 
 TEST(Scenario, Full3dFirstBodyWithMeshFile) {
@@ -102,8 +136,11 @@ TEST(Scenario, DefaultsApplied) {
   EXPECT_EQ(s.output.vtu_every, 10);
   EXPECT_EQ(s.output.progress_every, 0);
   EXPECT_TRUE(s.boundaries.empty());
+  EXPECT_TRUE(s.contacts.empty());
+  EXPECT_EQ(s.active_set.max_passes, 10);
   ASSERT_EQ(s.bodies.size(), 1u);
   const auto& b = s.bodies[0];
+  EXPECT_FALSE(b.rigid);
   EXPECT_EQ(b.translate, Eigen::Vector3d::Zero());
   EXPECT_EQ(b.velocity, Eigen::Vector3d::Zero());
   EXPECT_EQ(b.angular_velocity, Eigen::Vector3d::Zero());
@@ -133,7 +170,7 @@ TEST(Scenario, TwoDimensionalScenario) {
   EXPECT_EQ(s.dimension, 2);
   EXPECT_EQ(s.time.end, 1.0);
   EXPECT_EQ(s.gravity, Eigen::Vector3d(0, -9.81, 0));
-  ASSERT_EQ(s.bodies.size(), 2u);
+  ASSERT_EQ(s.bodies.size(), 3u);
   const auto& disc = s.bodies[0];
   EXPECT_EQ(disc.translate, Eigen::Vector3d(0.5, 2, 0));
   EXPECT_EQ(disc.velocity, Eigen::Vector3d(0, -1.5, 0));
@@ -147,6 +184,14 @@ TEST(Scenario, TwoDimensionalScenario) {
   EXPECT_EQ(block.thickness, 1.0);
   EXPECT_EQ(block.mesh.generator, "rectangle");
   EXPECT_EQ(block.mesh.parameters, (std::map<std::string, double>{{"lx", 2}, {"ly", 0.5}, {"size", 0.1}}));
+  const auto& ground = s.bodies[2];
+  EXPECT_TRUE(ground.rigid);
+  EXPECT_EQ(ground.velocity, Eigen::Vector3d(0, 0.1, 0));
+  EXPECT_EQ(ground.material.density, 2000.0);  // optional on a rigid body, but kept
+  EXPECT_EQ(ground.mesh.generator, "segment");
+  ASSERT_EQ(s.contacts.size(), 1u);
+  EXPECT_EQ(s.contacts[0].slave_group, "rim");
+  EXPECT_EQ(s.contacts[0].master_body, "ground");
 }
 
 TEST(Scenario, TwoDimensionalBoundaries) {

@@ -77,6 +77,9 @@ TEST(ScenarioKeys, ScalarDefaultsAreValid) {
         const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
         EXPECT_TRUE(error == std::errc() && end == text.data() + text.size()) << key.name << " = " << text;
       }
+      if (key.type == KeyType::boolean) {
+        EXPECT_TRUE(text == "true" || text == "false") << key.name << " = " << text;
+      }
       if (key.type == KeyType::choice) {
         EXPECT_NE(std::find(key.choices.begin(), key.choices.end(), text), key.choices.end()) << key.name;
       }
@@ -109,6 +112,15 @@ TEST(ScenarioKeys, DeclaredDefaultsEqualStructDefaults) {
   EXPECT_EQ(s.output.vtu_every, plain.output.vtu_every);
   EXPECT_EQ(s.output.progress_every, plain.output.progress_every);
   EXPECT_EQ(s.bodies.at(0).thickness, BodySpec{}.thickness);
+  EXPECT_EQ(s.bodies.at(0).rigid, BodySpec{}.rigid);
+  EXPECT_EQ(s.active_set.max_passes, plain.active_set.max_passes);
+}
+
+TEST(ScenarioKeys, DeclaredContactDefaultsEqualStructDefaults) {
+  const auto s = parse_scenario(
+      test::minimal("[[contact]]\nslave = \"a:top\"\nmaster = \"a:bottom\"\nkind = \"stick\"\n"), test::case_file());
+  ASSERT_EQ(s.contacts.size(), 1u);
+  EXPECT_EQ(s.contacts[0].depth_factor, ContactSpec{}.depth_factor);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 #include <numbers>
 #include <thread>
@@ -144,10 +145,18 @@ TEST_P(GeneratorTest, VolumeBoundaryAndGroups) {
 INSTANTIATE_TEST_SUITE_P(AllShapes, GeneratorTest, ::testing::ValuesIn(cases()),
                          [](const auto& info) { return info.param.kind; });
 
+/// The bare-surface generators (no cells), tested separately below.
+std::vector<Case> surface_cases() {
+  return {{"square", {{"lx", 2}, {"ly", 1}, {"size", 0.3}}, 2.0, 1e-12, {}},
+          {"segment", {{"lx", 2}, {"size", 0.3}}, 2.0, 1e-12, {}}};
+}
+
 TEST(Generators, CatalogDescribesEveryGenerator) {
   const auto& catalog = generator_catalog();
-  EXPECT_EQ(catalog.size(), cases().size());
-  for (const Case& c : cases()) {
+  auto all = cases();
+  for (const Case& c : surface_cases()) all.push_back(c);
+  EXPECT_EQ(catalog.size(), all.size());
+  for (const Case& c : all) {
     ASSERT_TRUE(catalog.contains(c.kind)) << c.kind;
     const GeneratorInfo& info = catalog.at(c.kind);
     EXPECT_EQ(info.parameters.size(), c.params.size()) << c.kind;
@@ -167,6 +176,92 @@ TEST(Generators, FlatGroupsPointOutward) {
   const Mesh rect = generate_mesh("rectangle", {{"lx", 2}, {"ly", 1}, {"size", 0.3}});
   EXPECT_TRUE(test::total_area_normal(rect, rect.facet_groups.at("xmin").facets).isApprox(Eigen::Vector3d(-1, 0, 0)));
   EXPECT_TRUE(test::total_area_normal(rect, rect.facet_groups.at("ymax").facets).isApprox(Eigen::Vector3d(0, 2, 0)));
+}
+
+/// Every node of `mesh` is used by a facet of `facets`.
+void expect_every_node_on_a_facet(const Mesh& mesh, const Eigen::MatrixXi& facets) {
+  std::vector<int> uses(static_cast<std::size_t>(mesh.num_nodes()), 0);
+  for (int f = 0; f < facets.cols(); ++f)
+    for (int i = 0; i < facets.rows(); ++i) {
+      ASSERT_GE(facets(i, f), 0);
+      ASSERT_LT(facets(i, f), mesh.num_nodes());
+      ++uses[static_cast<std::size_t>(facets(i, f))];
+    }
+  EXPECT_EQ(std::count(uses.begin(), uses.end(), 0), 0);
+}
+
+/// Common checks of a bare surface mesh: no cells, groups, every node used.
+void expect_bare_surface(const Mesh& mesh, int dim) {
+  EXPECT_EQ(mesh.dim, dim);
+  EXPECT_EQ(mesh.points.rows(), dim);
+  EXPECT_EQ(mesh.cells.rows(), dim + 1);
+  EXPECT_EQ(mesh.cells.cols(), 0);
+  EXPECT_EQ(mesh.num_cells(), 0);
+  EXPECT_TRUE(mesh.cell_groups.at("body").empty());
+  ASSERT_EQ(mesh.facet_groups.size(), 2u);
+  const Eigen::MatrixXi& surface = mesh.facet_groups.at("surface").facets;
+  EXPECT_EQ(surface.rows(), dim);
+  EXPECT_EQ(mesh.facet_groups.at("boundary").facets, surface);
+  expect_every_node_on_a_facet(mesh, surface);
+}
+
+TEST(Generators, SquareIsABareSurfaceFacingUp) {
+  const Mesh mesh = generate_mesh("square", {{"lx", 2}, {"ly", 1}, {"size", 0.3}});
+  expect_bare_surface(mesh, 3);
+  const Eigen::MatrixXi& facets = mesh.facet_groups.at("surface").facets;
+  EXPECT_EQ(facets.cols(), 2 * 7 * 4);  // ceil(2/0.3) × ceil(1/0.3) squares
+  EXPECT_EQ(mesh.num_nodes(), 8 * 5);
+  for (int f = 0; f < facets.cols(); ++f) {
+    const Eigen::Vector3d n = test::area_normal(mesh, facets, f);
+    EXPECT_GT(n.z(), 0.0) << "facet " << f;
+    EXPECT_NEAR(n.head<2>().norm(), 0.0, 1e-15);
+  }
+  EXPECT_NEAR(test::total_area_normal(mesh, facets).z(), 2.0, 1e-12);  // area lx·ly
+  EXPECT_NEAR(mesh.points.row(2).cwiseAbs().maxCoeff(), 0.0, 0.0);
+  EXPECT_NEAR(mesh.points.row(0).minCoeff(), -1.0, 1e-15);
+  EXPECT_NEAR(mesh.points.row(0).maxCoeff(), 1.0, 1e-15);
+  EXPECT_NEAR(mesh.points.row(1).minCoeff(), -0.5, 1e-15);
+  EXPECT_NEAR(mesh.points.row(1).maxCoeff(), 0.5, 1e-15);
+}
+
+TEST(Generators, SquareWithSizeAboveItsSidesIsTwoTriangles) {
+  const Mesh big = generate_mesh("square", {{"lx", 6}, {"ly", 6}, {"size", 3}});
+  EXPECT_EQ(big.facet_groups.at("surface").facets.cols(), 8);  // 2 × 2 squares: an exact division stays exact
+  const Mesh one = generate_mesh("square", {{"lx", 6}, {"ly", 6}, {"size", 10}});
+  expect_bare_surface(one, 3);
+  EXPECT_EQ(one.facet_groups.at("surface").facets.cols(), 2);
+  EXPECT_EQ(one.num_nodes(), 4);
+}
+
+TEST(Generators, SegmentIsABareLineFacingUp) {
+  const Mesh mesh = generate_mesh("segment", {{"lx", 2}, {"size", 0.3}});
+  expect_bare_surface(mesh, 2);
+  const Eigen::MatrixXi& facets = mesh.facet_groups.at("surface").facets;
+  ASSERT_EQ(facets.cols(), 7);  // ceil(2/0.3)
+  EXPECT_EQ(mesh.num_nodes(), 8);
+  for (int f = 0; f < facets.cols(); ++f) {
+    const Eigen::Vector3d n = test::area_normal(mesh, facets, f);  // (t_y, −t_x)
+    EXPECT_NEAR(n.y(), 2.0 / 7.0, 1e-14) << "facet " << f;
+    EXPECT_EQ(n.x(), 0.0);
+    EXPECT_GT(mesh.points(0, facets(0, f)), mesh.points(0, facets(1, f)));  // from larger to smaller x
+  }
+  EXPECT_EQ(mesh.points.row(1).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NEAR(mesh.points.row(0).minCoeff(), -1.0, 1e-15);
+  EXPECT_NEAR(mesh.points.row(0).maxCoeff(), 1.0, 1e-15);
+}
+
+TEST(Generators, SurfaceDocsNameTheGroupAndTheNormal) {
+  EXPECT_EQ(generator_catalog().at("square").dim, 3);
+  EXPECT_EQ(generator_catalog().at("segment").dim, 2);
+  EXPECT_THAT(generator_catalog().at("square").doc, AllOf(HasSubstr("surface"), HasSubstr("+z")));
+  EXPECT_THAT(generator_catalog().at("segment").doc, AllOf(HasSubstr("surface"), HasSubstr("+y")));
+}
+
+TEST(GeneratorErrors, SurfaceParameters) {
+  EXPECT_THAT(error_of("square", {{"lx", 1}, {"size", 0.1}}), HasSubstr("missing parameter 'ly'"));
+  EXPECT_THAT(error_of("segment", {{"lx", 1}, {"size", 0}}), HasSubstr("'size' = 0"));
+  EXPECT_THAT(error_of("segment", {{"lx", -1}, {"size", 0.1}}), HasSubstr("'lx' = -1"));
+  EXPECT_THAT(error_of("square", {{"lx", 1}, {"ly", 1}, {"size", 1e-4}}), HasSubstr("would make about"));
 }
 
 TEST(Generators, CurvedVolumesConvergeWhenRefined) {

@@ -1,0 +1,139 @@
+#include "contact/search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace conserve::contact {
+
+namespace {
+
+template <int D>
+double longest_edge(const FacetNodes<D>& x) {
+  double longest = 0.0;
+  for (int a = 0; a < D; ++a)
+    for (int b = a + 1; b < D; ++b) longest = std::max(longest, (x.col(a) - x.col(b)).norm());
+  return longest;
+}
+
+/// The best candidate whose projection is inside its facet: smallest |gap|.
+template <int D>
+struct InsideChoice {
+  std::optional<Match<D>> match;
+  void offer(int facet, const Projection<D>& p) {
+    if (!match || std::abs(p.gap) < std::abs(match->projection.gap)) match = Match<D>{facet, p};
+  }
+};
+
+/// The best candidate whose projection is outside its facet: nearest closed
+/// facet, ties (within 1e-12 × facet size) to the best aligned normal.
+template <int D>
+struct NearestChoice {
+  std::optional<Match<D>> match;
+  double distance = std::numeric_limits<double>::infinity();
+  double alignment = -std::numeric_limits<double>::infinity();
+  double size = 0.0;
+
+  void offer(int facet, const Projection<D>& p, const Vec<D>& x_s, const FacetNodes<D>& x, double facet_size) {
+    const auto [xi, dist] = closest_point_on_facet<D>(x_s, x);
+    const Vec<D> offset = x_s - x * facet_shape<D>(xi);
+    const double norm = offset.norm();
+    const double align = norm > 0.0 ? offset.dot(p.normal) / norm : 1.0;
+    const double tie = 1e-12 * std::max(size, facet_size);
+    const bool better = dist < distance - tie || (dist <= distance + tie && align > alignment);
+    if (!match || better) {
+      match = Match<D>{facet, p};
+      distance = dist;
+      alignment = align;
+      size = facet_size;
+    }
+  }
+};
+
+/// Index of the most negative barycentric coordinate (N_0, …, N_{D−1}) of ξ:
+/// the local node opposite the edge (vertex) the projection left by.
+template <int D>
+int exit_side(const Xi<D>& xi) {
+  int k = 0;
+  facet_shape<D>(xi).minCoeff(&k);
+  return k;
+}
+
+}  // namespace
+
+template <int D>
+FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<D>& x) {
+  FacetNodes<D> nodes;
+  for (int i = 0; i < D; ++i) nodes.col(i) = x.col(surface.facets(i, f));
+  return nodes;
+}
+
+template <int D>
+std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& surface, const FacetTree<D>& tree,
+                                    const Positions<D>& x, const SearchSettings& settings,
+                                    const std::optional<Vec<D>>& slave_normal) {
+  std::vector<int> candidates;
+  tree.query(x_s, settings.search_distance, candidates);
+  InsideChoice<D> inside;
+  NearestChoice<D> nearest;
+  for (const int f : candidates) {
+    const FacetNodes<D> nodes = facet_nodes<D>(surface, f, x);
+    const Projection<D> p = project<D>(x_s, nodes);
+    if (slave_normal && p.normal.dot(*slave_normal) > 0.0) continue;  // both face the same way
+    const double size = longest_edge<D>(nodes);
+    if (p.gap < -settings.depth_factor * size) continue;  // far side
+    if (p.inside(settings.inside_tolerance))
+      inside.offer(f, p);
+    else if (!inside.match)  // once a facet is inside, the nearest-facet rule no longer matters
+      nearest.offer(f, p, x_s, nodes, size);
+  }
+  return inside.match ? inside.match : nearest.match;
+}
+
+template <int D>
+Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface& surface, const Positions<D>& x,
+                double inside_tolerance) {
+  const Match<D> here{current.facet, project<D>(x_s, facet_nodes<D>(surface, current.facet, x))};
+  // Walk across the edges (vertices) the projection leaves by; accept the
+  // first facet where it is inside, else stay on `current`, extrapolated.
+  Match<D> walk = here;
+  std::vector<int> visited{current.facet};
+  for (int step = 0; step < surface.num_facets() && !walk.projection.inside(inside_tolerance); ++step) {
+    const int next = surface.facet_neighbours(exit_side<D>(walk.projection.xi), walk.facet);
+    if (next < 0 || std::find(visited.begin(), visited.end(), next) != visited.end()) return here;
+    visited.push_back(next);
+    walk = Match<D>{next, project<D>(x_s, facet_nodes<D>(surface, next, x))};
+  }
+  return walk.projection.inside(inside_tolerance) ? walk : here;
+}
+
+template <int D>
+std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<D>& x) {
+  std::vector<Vec<D>> normals(surface.nodes.size(), Vec<D>::Zero());
+  for (std::size_t i = 0; i < surface.nodes.size(); ++i) {
+    for (const int f : surface.node_facets[i]) {
+      const Tangents<D> tau = facet_tangents<D>(facet_nodes<D>(surface, f, x));
+      // area (length) × unit normal
+      if constexpr (D == 3)
+        normals[i] += 0.5 * tau.col(0).cross(tau.col(1));
+      else
+        normals[i] += Vec<2>(tau(1, 0), -tau(0, 0));
+    }
+    const double norm = normals[i].norm();
+    if (norm > 0.0) normals[i] /= norm;
+  }
+  return normals;
+}
+
+#define CONSERVE_INSTANTIATE(D)                                                                                     \
+  template FacetNodes<D> facet_nodes<D>(const ContactSurface&, int, const Positions<D>&);                            \
+  template std::optional<Match<D>> find_master<D>(const Vec<D>&, const ContactSurface&, const FacetTree<D>&,         \
+                                                  const Positions<D>&, const SearchSettings&,                       \
+                                                  const std::optional<Vec<D>>&);                                    \
+  template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double);  \
+  template std::vector<Vec<D>> node_normals<D>(const ContactSurface&, const Positions<D>&);
+CONSERVE_INSTANTIATE(2)
+CONSERVE_INSTANTIATE(3)
+#undef CONSERVE_INSTANTIATE
+
+}  // namespace conserve::contact

@@ -1,0 +1,59 @@
+#pragma once
+/// Narrow phase: which master facet a slave point belongs to, with the rules
+/// ALGORITHM.md §3 and §7 add to the paper (projections on edges and
+/// vertices, convex corners, far-side facets, facet switching).
+#include <optional>
+
+#include "contact/broad_phase.hpp"
+#include "contact/facet.hpp"
+#include "contact/surface.hpp"
+
+namespace conserve::contact {
+
+struct SearchSettings {
+  double search_distance = 0.0;  ///< broad-phase radius [m]
+  /// A facet counts only while the slave is less than depth_factor × (the
+  /// facet's longest edge) behind it: deeper points belong to the far side.
+  double depth_factor = 0.5;
+  double inside_tolerance = 1e-10;  ///< isoparametric slack for inside()
+};
+
+template <int D>
+struct Match {
+  int facet = -1;
+  Projection<D> projection;  ///< on that facet's plane, ξ not clamped
+};
+
+/// Facet node positions of `surface.facets.col(f)` from all positions x.
+template <int D>
+FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<D>& x);
+
+/// The master facet of x_s: among the tree's candidates, discard far-side
+/// facets (see SearchSettings) and those whose normal points the same way
+/// as the slave's outward normal `slave_normal` (if given); prefer facets
+/// whose projection lies inside (smallest |gap|); otherwise (edges, vertices,
+/// convex corners) the facet whose closed triangle/segment is nearest, ties
+/// going to the one whose normal is best aligned with x_s − its nearest
+/// point. std::nullopt if no facet qualifies.
+template <int D>
+std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& surface, const FacetTree<D>& tree,
+                                    const Positions<D>& x, const SearchSettings& settings,
+                                    const std::optional<Vec<D>>& slave_normal = std::nullopt);
+
+/// Re-projects x_s on its current facet; if the projection has left the
+/// facet and lands inside a neighbouring facet (across the edge it left by),
+/// moves there (repeatedly, bounded by the number of facets); otherwise keeps
+/// the facet and extrapolates. "Left by" is the most negative barycentric
+/// coordinate (1 − Σξ, ξ[, η]). The walk crosses exit edges tentatively and
+/// never revisits a facet: it ends on the first facet where the projection is
+/// inside, or, if it meets the border or a revisit first, on `current`.
+template <int D>
+Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface& surface, const Positions<D>& x,
+                double inside_tolerance = 1e-10);
+
+/// Outward unit normal at each surface node (area-weighted facet normals),
+/// aligned with surface.nodes.
+template <int D>
+std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<D>& x);
+
+}  // namespace conserve::contact

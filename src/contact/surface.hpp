@@ -1,0 +1,43 @@
+#pragma once
+/// Contact surfaces: outward-oriented boundary facets of one body, in the
+/// model's global node numbers, with node→facet and facet→facet adjacency.
+#include <string>
+#include <vector>
+
+#include "model/model.hpp"
+
+namespace conserve::contact {
+
+struct ContactSurface {
+  std::string name;  ///< "body:group", for messages
+  int body = -1;     ///< index into Model::bodies
+  /// D × n_facets global node numbers, outward oriented (mesh::boundary_facets convention).
+  Eigen::MatrixXi facets;
+  /// Sorted unique global node numbers of the facets.
+  std::vector<int> nodes;
+  /// node_facets[i]: facets (columns of `facets`) that contain nodes[i].
+  std::vector<std::vector<int>> node_facets;
+  /// facet_neighbours(k, f): the facet sharing with f the edge (3D) or vertex
+  /// (2D) opposite f's local node k, or −1 on the surface's border.
+  Eigen::MatrixXi facet_neighbours;
+  /// Every degree of freedom of the surface's nodes is prescribed.
+  bool rigid = false;
+
+  [[nodiscard]] int num_facets() const { return static_cast<int>(facets.cols()); }
+  /// Index of a global node in `nodes`, or −1.
+  [[nodiscard]] int local_node(int global) const;
+};
+
+/// The surface of body `body` made of its facet group `group`; "boundary"
+/// means all boundary facets of the body (computed from its cells when the
+/// mesh has no such group). Throws InputError naming the body and group if
+/// the group does not exist, is empty, or has facets that are not on the
+/// body's boundary. `rigid` is set from the model's prescribed dofs.
+template <int D>
+ContactSurface make_surface(const model::Model<D>& model, int body, const std::string& group);
+
+/// Adjacency from facets alone (used by make_surface; exposed for tests and
+/// for surfaces that are not part of a model).
+void build_adjacency(ContactSurface& surface, int dim);
+
+}  // namespace conserve::contact

@@ -1,0 +1,69 @@
+/// Scenario parsing: [[contact]] pairs and [active_set].
+#include <fmt/format.h>
+
+#include "io/scenario_parts.hpp"
+
+namespace conserve::io::detail {
+namespace {
+
+/// "body" or "body:group" of a surface key, split.
+struct SurfaceName {
+  std::string body;
+  std::string group;
+};
+
+constexpr std::string_view kSurfaceForm = "\"body\" or \"body:group\"";
+
+/// Parses the surface key `key` ("slave" or "master"): the body must exist,
+/// the group (default "boundary") must not be empty.
+SurfaceName parse_surface(const Section& s, std::string_view key, const std::vector<BodySpec>& bodies) {
+  const auto text = s.string(key);
+  const auto colon = text.find(':');
+  SurfaceName surface{text.substr(0, colon), colon == std::string::npos ? "boundary" : text.substr(colon + 1)};
+  if (surface.body.empty()) s.fail(key, fmt::format("'{}' names no body", text), kSurfaceForm);
+  if (!find_body(bodies, surface.body)) {
+    s.fail(key, fmt::format("unknown body '{}'", surface.body), "a body, one of: " + body_names(bodies));
+  }
+  if (surface.group.empty()) {
+    s.fail(key, fmt::format("'{}' has an empty group name", text),
+           fmt::format("{} with a non-empty group", kSurfaceForm));
+  }
+  return surface;
+}
+
+ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies) {
+  const SurfaceName slave = parse_surface(s, "slave", bodies);
+  if (find_body(bodies, slave.body)->rigid) {
+    s.fail("slave", fmt::format("'{}' is rigid, and a rigid body cannot be the slave; swap slave and master", slave.body),
+           "a deformable slave body");
+  }
+  const SurfaceName master = parse_surface(s, "master", bodies);
+  if (master.body == slave.body && master.group == slave.group) {
+    s.fail("master", fmt::format("'{}:{}' is also the slave surface", master.body, master.group),
+           "a master surface other than the slave");
+  }
+  ContactSpec contact;
+  contact.slave_body = slave.body;
+  contact.slave_group = slave.group;
+  contact.master_body = master.body;
+  contact.master_group = master.group;
+  contact.kind = s.string("kind") == "stick" ? ContactKind::stick : ContactKind::frictionless;
+  contact.depth_factor = s.number("depth_factor");
+  return contact;
+}
+
+}  // namespace
+
+std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<BodySpec>& bodies) {
+  std::vector<ContactSpec> contacts;
+  for (const auto& table : top.table_array("contact")) contacts.push_back(parse_contact(table, bodies));
+  return contacts;
+}
+
+ActiveSetSpec parse_active_set(const Section& active_set) {
+  ActiveSetSpec spec;
+  spec.max_passes = active_set.integer("max_passes");
+  return spec;
+}
+
+}  // namespace conserve::io::detail

@@ -1,0 +1,51 @@
+#include "simulation/contact_setup.hpp"
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace conserve::simulation {
+namespace {
+
+template <int D>
+int body_index(const model::Model<D>& model, const std::string& name) {
+  for (std::size_t b = 0; b < model.bodies.size(); ++b)
+    if (model.bodies[b].name == name) return static_cast<int>(b);
+  throw InputError(fmt::format("no body named '{}'", name));
+}
+
+template <int D>
+double longest_edge(const contact::ContactSurface& s, const model::Model<D>& model) {
+  double h = 0.0;
+  for (int f = 0; f < s.num_facets(); ++f)
+    for (int a = 0; a < D; ++a)
+      for (int b = a + 1; b < D; ++b) h = std::max(h, (model.X.col(s.facets(a, f)) - model.X.col(s.facets(b, f))).norm());
+  return h;
+}
+
+}  // namespace
+
+template <int D>
+std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scenario, const model::Model<D>& model) {
+  std::vector<contact::ContactPair<D>> pairs;
+  for (std::size_t i = 0; i < scenario.contacts.size(); ++i) {
+    const io::ContactSpec& spec = scenario.contacts[i];
+    contact::ContactPair<D> pair;
+    try {
+      pair.slave = contact::make_surface<D>(model, body_index(model, spec.slave_body), spec.slave_group);
+      pair.master = contact::make_surface<D>(model, body_index(model, spec.master_body), spec.master_group);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: contact[{}]: {}", scenario.file.string(), i, e.what()));
+    }
+    pair.kind = spec.kind == io::ContactKind::stick ? contact::Kind::stick : contact::Kind::frictionless;
+    pair.search.depth_factor = spec.depth_factor;
+    pair.search.search_distance = spec.depth_factor * longest_edge(pair.master, model);
+    pairs.push_back(std::move(pair));
+  }
+  return pairs;
+}
+
+template std::vector<contact::ContactPair<2>> make_contact_pairs<2>(const io::Scenario&, const model::Model<2>&);
+template std::vector<contact::ContactPair<3>> make_contact_pairs<3>(const io::Scenario&, const model::Model<3>&);
+
+}  // namespace conserve::simulation

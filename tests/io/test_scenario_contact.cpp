@@ -1,0 +1,177 @@
+/// Rigid bodies, [[contact]] pairs and [active_set]: valid input with its
+/// defaults, and one test per validation rule with FILE:LINE and key path.
+#include <gtest/gtest.h>
+
+#include "scenario_test_support.hpp"
+
+namespace conserve::io {
+namespace {
+
+using test::case_file;
+using test::fails_with;
+
+/// Lines 1–11: minimal() with body "a" (deformable); 12–20: the rigid body
+/// "plane" (a bare square, no material); `extra_plane` goes in after line
+/// 15 (so it is line 16 and on), `rest` after the plane.
+std::string two_bodies(std::string_view rest = "", std::string_view extra_plane = "") {
+  return test::minimal(
+      "[[body]]\n"                  // 12
+      "name = \"plane\"\n"          // 13
+      "rigid = true\n"              // 14
+      "velocity = [0, 0, 0.5]\n" +  // 15
+      std::string(extra_plane) +
+      "[body.mesh]\n"
+      "generator = \"square\"\n"
+      "lx = 2\n"
+      "ly = 2\n"
+      "size = 1\n" +
+      std::string(rest));
+}
+
+/// A [[contact]] table starting on line 21 after two_bodies(): 22 slave,
+/// 23 master, 24 kind, then `extra`.
+std::string contact(std::string_view slave, std::string_view master, std::string_view extra = "") {
+  return two_bodies("[[contact]]\nslave = \"" + std::string(slave) + "\"\nmaster = \"" + std::string(master) +
+                    "\"\nkind = \"stick\"\n" + std::string(extra));
+}
+
+TEST(ScenarioRigid, RigidBodyWithoutMaterial) {
+  const auto s = parse_scenario(two_bodies(), case_file());
+  ASSERT_EQ(s.bodies.size(), 2u);
+  EXPECT_FALSE(s.bodies[0].rigid);
+  const auto& plane = s.bodies[1];
+  EXPECT_TRUE(plane.rigid);
+  EXPECT_EQ(plane.velocity, Eigen::Vector3d(0, 0, 0.5));
+  EXPECT_EQ(plane.material.young, 0.0);
+  EXPECT_EQ(plane.material.density, 0.0);
+  EXPECT_EQ(plane.mesh.generator, "square");
+  EXPECT_EQ(plane.angular_velocity, Eigen::Vector3d::Zero());
+  EXPECT_EQ(plane.initial_deformation, Eigen::Matrix3d::Identity());
+}
+
+TEST(ScenarioRigid, RigidFalseIsDeformable) {
+  auto text = two_bodies("", "[body.material]\nyoung = 1e9\npoisson = 0.2\ndensity = 100\n");
+  text.replace(text.find("rigid = true"), 12, "rigid = false");
+  const auto s = parse_scenario(text, case_file());
+  EXPECT_FALSE(s.bodies[1].rigid);
+}
+
+TEST(ScenarioRigid, MaterialOfARigidBodyIsStillValidated) {
+  const auto material = "[body.material]\nyoung = 1e9\npoisson = 0.7\ndensity = 100\n";  // lines 16–19
+  EXPECT_TRUE(fails_with(two_bodies("", material), 18, "body[1].material.poisson", "0.7 is out of range"));
+  const auto s = parse_scenario(two_bodies("", "[body.material]\nyoung = 1e9\npoisson = 0.2\ndensity = 100\n"),
+                                case_file());
+  EXPECT_EQ(s.bodies[1].material.density, 100.0);
+}
+
+TEST(ScenarioRigid, RigidMustBeABoolean) {
+  auto text = two_bodies();
+  text.replace(text.find("rigid = true"), 12, "rigid = 1");
+  EXPECT_TRUE(fails_with(text, 14, "body[1].rigid", "got an integer (expected true or false)"));
+}
+
+TEST(ScenarioRigid, NoSpinOrInitialDeformationOnARigidBody) {
+  EXPECT_TRUE(fails_with(two_bodies("", "angular_velocity = [0, 0, 1]\n"), 16, "body[1].angular_velocity",
+                         "is not allowed on a rigid body (expected no angular_velocity with rigid = true"));
+  EXPECT_TRUE(fails_with(two_bodies("", "initial_deformation = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n"), 16,
+                         "body[1].initial_deformation", "is not allowed on a rigid body"));
+}
+
+TEST(ScenarioRigid, DeformableBodyNeedsAMaterial) {
+  auto text = two_bodies();
+  text.replace(text.find("rigid = true\n"), 13, "\n");
+  EXPECT_TRUE(fails_with(text, 12, "body[1].material", "missing key (expected a table [material]"));
+}
+
+TEST(ScenarioRigid, NoBoundaryOnARigidBody) {
+  EXPECT_TRUE(fails_with(two_bodies("[[boundary]]\nbody = \"plane\"\ngroup = \"all\"\n"), 22, "boundary[0].body",
+                         "body 'plane' is rigid: all its degrees of freedom are already prescribed"));
+}
+
+TEST(ScenarioRigid, TwoDimensionalRigidSegment) {
+  const auto text = "dimension = 2\n" + test::with_mesh("generator = \"disc\"\nradius = 1\nsize = 0.1\n",
+                                                       "[[body]]\nname = \"ground\"\nrigid = true\nvelocity = [1, 0]\n"
+                                                       "[body.mesh]\ngenerator = \"segment\"\nlx = 4\nsize = 1\n");
+  const auto s = parse_scenario(text, case_file());
+  EXPECT_TRUE(s.bodies[1].rigid);
+  EXPECT_EQ(s.bodies[1].velocity, Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(s.bodies[1].mesh.parameters, (std::map<std::string, double>{{"lx", 4}, {"size", 1}}));
+}
+
+TEST(ScenarioContact, PairWithDefaults) {
+  const auto s = parse_scenario(contact("a", "plane:surface"), case_file());
+  ASSERT_EQ(s.contacts.size(), 1u);
+  const ContactSpec& c = s.contacts[0];
+  EXPECT_EQ(c.slave_body, "a");
+  EXPECT_EQ(c.slave_group, "boundary");
+  EXPECT_EQ(c.master_body, "plane");
+  EXPECT_EQ(c.master_group, "surface");
+  EXPECT_EQ(c.kind, ContactKind::stick);
+  EXPECT_EQ(c.depth_factor, 0.5);
+  EXPECT_EQ(s.active_set.max_passes, 10);
+}
+
+TEST(ScenarioContact, EveryKeySet) {
+  const auto text = contact("a:top", "plane", "depth_factor = 0.2\n") +
+                    "[[contact]]\nslave = \"a:top\"\nmaster = \"a:bottom\"\nkind = \"frictionless\"\n"
+                    "[active_set]\nmax_passes = 3\n";
+  const auto s = parse_scenario(text, case_file());
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[0].slave_group, "top");
+  EXPECT_EQ(s.contacts[0].master_group, "boundary");
+  EXPECT_EQ(s.contacts[0].depth_factor, 0.2);
+  EXPECT_EQ(s.contacts[1].kind, ContactKind::frictionless);
+  EXPECT_EQ(s.contacts[1].slave_body, "a");
+  EXPECT_EQ(s.contacts[1].master_body, "a");  // one body, two different groups: allowed
+  EXPECT_EQ(s.active_set.max_passes, 3);
+}
+
+TEST(ScenarioContact, UnknownBodyIsNamedAndBodiesListed) {
+  EXPECT_TRUE(fails_with(contact("ball:outer", "plane"), 22, "contact[0].slave",
+                         "unknown body 'ball' (expected a body, one of: a, plane)"));
+  EXPECT_TRUE(fails_with(contact("a", "floor"), 23, "contact[0].master", "unknown body 'floor'"));
+  EXPECT_TRUE(fails_with(contact(":outer", "plane"), 22, "contact[0].slave", "':outer' names no body"));
+}
+
+TEST(ScenarioContact, EmptyGroupName) {
+  EXPECT_TRUE(fails_with(contact("a:", "plane"), 22, "contact[0].slave", "'a:' has an empty group name"));
+  EXPECT_TRUE(fails_with(contact("a", "plane:"), 23, "contact[0].master", "empty group name"));
+}
+
+TEST(ScenarioContact, SlaveAndMasterMustDiffer) {
+  EXPECT_TRUE(fails_with(contact("a:top", "a:top"), 23, "contact[0].master",
+                         "'a:top' is also the slave surface (expected a master surface other than the slave)"));
+  EXPECT_TRUE(fails_with(contact("a", "a:boundary"), 23, "contact[0].master", "'a:boundary' is also the slave"));
+}
+
+TEST(ScenarioContact, RigidBodyCannotBeTheSlave) {
+  EXPECT_TRUE(fails_with(contact("plane:surface", "a"), 22, "contact[0].slave",
+                         "a rigid body cannot be the slave; swap slave and master"));
+}
+
+TEST(ScenarioContact, KindIsRequiredAndChecked) {
+  auto missing = contact("a", "plane");
+  missing.replace(missing.find("kind = \"stick\"\n"), 15, "");
+  EXPECT_TRUE(fails_with(missing, 21, "contact[0].kind", "missing key (expected one of: frictionless, stick)"));
+  auto wrong = contact("a", "plane");
+  wrong.replace(wrong.find("\"stick\""), 7, "\"slip\"");
+  EXPECT_TRUE(fails_with(wrong, 24, "contact[0].kind", "'slip' is not allowed (expected one of: frictionless, stick)"));
+}
+
+TEST(ScenarioContact, RangesAndUnknownKeys) {
+  EXPECT_TRUE(fails_with(contact("a", "plane", "depth_factor = 0\n"), 25, "contact[0].depth_factor",
+                         "0 is out of range (expected a finite number > 0)"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "friction = 0.3\n"), 25, "contact[0].friction",
+                         "unknown key 'friction' (expected one of: slave, master, kind, depth_factor)"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "[active_set]\nmax_passes = 0\n"), 26, "active_set.max_passes",
+                         "0 is out of range (expected an integer ≥ 1)"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "[active_set]\npasses = 2\n"), 26, "active_set.passes", "unknown key"));
+}
+
+TEST(ScenarioContact, SecondPairErrorsNameIndexOne) {
+  const auto text = contact("a", "plane") + "[[contact]]\nslave = \"a\"\nmaster = \"wall\"\nkind = \"stick\"\n";
+  EXPECT_TRUE(fails_with(text, 27, "contact[1].master", "unknown body 'wall'"));
+}
+
+}  // namespace
+}  // namespace conserve::io

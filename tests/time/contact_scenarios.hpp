@@ -1,0 +1,96 @@
+#pragma once
+/// Small contact scenarios shared by the contact tests (coarse meshes, short
+/// runs: they are the shortened versions of the examples).
+#include <string>
+
+namespace conserve::test {
+
+/// The paper's §6.3 ball (coarse mesh), dropped from just above a rigid
+/// plane with 2 m/s tangential velocity, under gravity: one impact and the
+/// rebound in `end` seconds.
+inline std::string ball_on_plane(const std::string& kind, double end) {
+  return R"(dimension = 3
+[time]
+step = 1e-3
+end = )" + std::to_string(end) +
+         R"(
+[loads]
+gravity = [0.0, 0.0, -9.81]
+[[body]]
+name = "ball"
+translate = [0.0, 0.0, 0.42]
+velocity = [2.0, 0.0, 0.0]
+[body.material]
+young = 4.0e6
+poisson = 0.45
+density = 1000.0
+[body.mesh]
+generator = "spherical_shell"
+inner_radius = 0.2
+outer_radius = 0.4
+size = 0.15
+[[body]]
+name = "plane"
+[body.material]
+young = 4.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "plate"
+lx = 3.0
+ly = 3.0
+thickness = 0.2
+size = 1.0
+[[boundary]]
+body = "plane"
+group = "all"
+[[contact]]
+slave = "ball:outer"
+master = "plane:top"
+kind = ")" + kind + R"("
+)";
+}
+
+/// Two free deformable boxes (no gravity, nothing fixed): a small one hits
+/// a bigger one off-centre, so that the impact also spins them.
+inline std::string two_boxes(const std::string& kind, double end) {
+  return R"(dimension = 3
+[time]
+step = 2e-3
+end = )" + std::to_string(end) +
+         R"(
+[[body]]
+name = "small"
+translate = [-0.1015, 0.08, 0.03]
+velocity = [2.0, 0.3, 0.0]
+[body.material]
+young = 2.0e5
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.2
+ly = 0.2
+lz = 0.2
+size = 0.1
+[[body]]
+name = "big"
+translate = [0.2, 0.0, 0.0]
+[body.material]
+young = 2.0e5
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.4
+ly = 0.4
+lz = 0.4
+size = 0.2
+[[contact]]
+slave = "small:xmax"
+master = "big:xmin"
+kind = ")" + kind + R"("
+)";
+}
+
+}  // namespace conserve::test
