@@ -104,8 +104,8 @@ void BM_ContactQuery(benchmark::State& st) {
     benchmark::DoNotOptimize(candidates);
   }
   const auto queries = static_cast<double>(sheet.slaves.size());
-  st.counters["per_query"] = benchmark::Counter(queries, benchmark::Counter::kIsIterationInvariantRate |
-                                                             benchmark::Counter::kInvert);
+  st.counters["per_query"] =
+      benchmark::Counter(queries, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   st.counters["candidates"] = static_cast<double>(candidates) / queries;
 }
 
@@ -121,9 +121,9 @@ void BM_ContactFindMaster(benchmark::State& st) {
       matched += contact::find_master<3>(p, sheet.surface, tree, sheet.x, sheet.settings).has_value();
     benchmark::DoNotOptimize(matched);
   }
-  st.counters["per_query"] = benchmark::Counter(static_cast<double>(sheet.slaves.size()),
-                                                benchmark::Counter::kIsIterationInvariantRate |
-                                                    benchmark::Counter::kInvert);
+  st.counters["per_query"] =
+      benchmark::Counter(static_cast<double>(sheet.slaves.size()),
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   st.counters["matched"] = matched;
 }
 

@@ -76,9 +76,10 @@ Eigen::MatrixXi group_facets(const model::Model<D>& model, const model::Body& bo
   if (facets.cols() > 0 && has_cells) {
     const int off = mesh::orient_outward(facets, body_boundary(model, body));
     if (off > 0)
-      throw InputError(fmt::format("contact surface: body '{}', group '{}': {} of its {} facets are not on the body's "
-                                   "boundary",
-                                   body.name, group, off, facets.cols()));
+      throw InputError(
+          fmt::format("contact surface: body '{}', group '{}': {} of its {} facets are not on the body's "
+                      "boundary",
+                      body.name, group, off, facets.cols()));
   }
   return facets;
 }
@@ -100,7 +101,9 @@ struct Side {
   std::int64_t key;
   int facet;
   int local;
-  bool operator<(const Side& other) const { return std::tie(key, facet, local) < std::tie(other.key, other.facet, other.local); }
+  bool operator<(const Side& other) const {
+    return std::tie(key, facet, local) < std::tie(other.key, other.facet, other.local);
+  }
 };
 
 Side side_of(const Eigen::MatrixXi& facets, int f, int k, int dim) {

@@ -34,7 +34,8 @@ SurfaceName parse_surface(const Section& s, std::string_view key, const std::vec
 ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies) {
   const SurfaceName slave = parse_surface(s, "slave", bodies);
   if (find_body(bodies, slave.body)->rigid) {
-    s.fail("slave", fmt::format("'{}' is rigid, and a rigid body cannot be the slave; swap slave and master", slave.body),
+    s.fail("slave",
+           fmt::format("'{}' is rigid, and a rigid body cannot be the slave; swap slave and master", slave.body),
            "a deformable slave body");
   }
   const SurfaceName master = parse_surface(s, "master", bodies);

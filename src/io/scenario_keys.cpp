@@ -244,9 +244,10 @@ SectionSpec boundary_section() {
 
 SectionSpec contact_section() {
   return {.name = "contact",
-          .doc = "A node-to-segment contact pair: the nodes of the slave surface against the facets of the master "
-                 "surface; repeat [[contact]] for each pair. A surface is written \"body\" (its whole boundary) "
-                 "or \"body:group\" (a facet group of its mesh, checked when the model is built).",
+          .doc =
+              "A node-to-segment contact pair: the nodes of the slave surface against the facets of the master "
+              "surface; repeat [[contact]] for each pair. A surface is written \"body\" (its whole boundary) "
+              "or \"body:group\" (a facet group of its mesh, checked when the model is built).",
           .keys = {
               {.name = "slave",
                .type = KeyType::string,
@@ -288,9 +289,8 @@ SectionSpec active_set_section() {
 
 const std::vector<SectionSpec>& scenario_sections() {
   static const std::vector<SectionSpec> sections = {
-      top_level(),        time_section(),     newton_section(),   loads_section(),
-      output_section(),   body_section(),     material_section(), mesh_section(),
-      boundary_section(), contact_section(),  active_set_section(),
+      top_level(),        time_section(), newton_section(),   loads_section(),   output_section(),     body_section(),
+      material_section(), mesh_section(), boundary_section(), contact_section(), active_set_section(),
   };
   return sections;
 }

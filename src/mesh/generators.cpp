@@ -192,9 +192,7 @@ Generator annulus() {
           inner_or_outer};
 }
 
-GeneratorParameter facet_size(const std::string& count) {
-  return length("size", "target facet edge length: " + count);
-}
+GeneratorParameter facet_size(const std::string& count) { return length("size", "target facet edge length: " + count); }
 
 /// Cell-less mesh of `facets` (dim × n) on `points`: cell group "body"
 /// empty, facet groups "surface" and "boundary" both these facets.
@@ -244,17 +242,16 @@ Mesh segment_mesh(const Params& p) {
 }
 
 Generator square() {
-  return {{3,
-           "Flat square [-lx/2, lx/2] × [-ly/2, ly/2] in the plane z = 0, a bare surface of triangles without "
-           "cells (only for a rigid body). Facet group: surface (= boundary), normals +z.",
-           {length("lx", "edge length along x"), length("ly", "edge length along y"),
-            facet_size("ceil(lx/size) × ceil(ly/size) squares, two triangles each")}},
-          [](const Params& p) {
-            return 2.0 * divisions(p.at("lx"), p.at("size")) * divisions(p.at("ly"), p.at("size"));
-          },
-          nullptr,
-          nullptr,
-          square_mesh};
+  return {
+      {3,
+       "Flat square [-lx/2, lx/2] × [-ly/2, ly/2] in the plane z = 0, a bare surface of triangles without "
+       "cells (only for a rigid body). Facet group: surface (= boundary), normals +z.",
+       {length("lx", "edge length along x"), length("ly", "edge length along y"),
+        facet_size("ceil(lx/size) × ceil(ly/size) squares, two triangles each")}},
+      [](const Params& p) { return 2.0 * divisions(p.at("lx"), p.at("size")) * divisions(p.at("ly"), p.at("size")); },
+      nullptr,
+      nullptr,
+      square_mesh};
 }
 
 Generator segment() {

@@ -17,8 +17,7 @@ namespace {
 template <int D>
 Vec<D> node_mean(const Model<D>& model, const Body& b, const Eigen::VectorXd& u) {
   Vec<D> sum = Vec<D>::Zero();
-  for (int n = b.first_node; n < b.first_node + b.num_nodes; ++n)
-    sum += model.X.col(n) + u.template segment<D>(n * D);
+  for (int n = b.first_node; n < b.first_node + b.num_nodes; ++n) sum += model.X.col(n) + u.template segment<D>(n * D);
   return b.num_nodes > 0 ? Vec<D>(sum / b.num_nodes) : sum;
 }
 

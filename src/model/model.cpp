@@ -17,7 +17,8 @@ template <int D>
 void check_shape(const mesh::Mesh& mesh, const std::string& name) {
   if (mesh.dim != D) throw InputError(fmt::format("body '{}': mesh is {}D but the scenario is {}D", name, mesh.dim, D));
   if (mesh.points.rows() < D)
-    throw InputError(fmt::format("body '{}': mesh points have {} coordinates (expected {})", name, mesh.points.rows(), D));
+    throw InputError(
+        fmt::format("body '{}': mesh points have {} coordinates (expected {})", name, mesh.points.rows(), D));
   if (mesh.num_cells() > 0 && mesh.cells.rows() != D + 1)
     throw InputError(fmt::format("body '{}': mesh cells have {} nodes (expected {})", name, mesh.cells.rows(), D + 1));
 }

@@ -34,7 +34,8 @@ template <int D>
 void add_body(const io::Scenario& scenario, std::size_t i, model::Model<D>& model) {
   const io::BodySpec& spec = scenario.bodies[i];
   try {
-    const io::MaterialSpec material = spec.rigid && !(spec.material.density > 0.0) ? rigid_placeholder() : spec.material;
+    const io::MaterialSpec material =
+        spec.rigid && !(spec.material.density > 0.0) ? rigid_placeholder() : spec.material;
     const auto lame = material::Lame::from_young_poisson(material.young, material.poisson);
     const mesh::Mesh mesh = body_mesh(spec, D);
     if (mesh.num_cells() == 0 && !spec.rigid)
@@ -66,9 +67,10 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
     if (body == model.bodies.end())
       throw InputError(fmt::format("{}: boundary[{}]: no body named '{}'", scenario.file.string(), i, bc.body));
     if (scenario.bodies[static_cast<std::size_t>(body - model.bodies.begin())].rigid)
-      throw InputError(fmt::format("{}: boundary[{}]: body '{}' is rigid: all its degrees of freedom are already "
-                                   "prescribed (remove this [[boundary]])",
-                                   scenario.file.string(), i, bc.body));
+      throw InputError(
+          fmt::format("{}: boundary[{}]: body '{}' is rigid: all its degrees of freedom are already "
+                      "prescribed (remove this [[boundary]])",
+                      scenario.file.string(), i, bc.body));
     std::vector<int> nodes;
     try {
       nodes = model::group_nodes(*body, bc.group);

@@ -34,9 +34,11 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   if (contacts_) contacts_->begin_step();
   solver::NewtonReport total;
   for (bool again = true; again;) {
-    const contact::Elimination<D> elimination(assembler_.model().num_nodes(),
-                                              contacts_ ? contacts_->constraints() : std::vector<contact::Constraint<D>>{});
-    elimination.enforce(state.u, u_np1);
+    static const std::vector<contact::ContactPair<D>> no_pairs;
+    contact::Elimination<D> elimination(assembler_.model().X, state.u, u_np1,
+                                        contacts_ ? contacts_->constraints() : std::vector<contact::Constraint<D>>{},
+                                        contacts_ ? contacts_->pairs() : no_pairs);
+    if (!elimination.empty()) elimination.enforce(u_np1);
     StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, &elimination);
     const solver::NewtonReport report = solver::solve_newton(problem, solver_, newton_);
     if (!report.converged)
@@ -47,6 +49,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     total.converged = true;
     total.iterations += report.iterations;
     total.residual_norms = report.residual_norms;
+    if (contacts_) contacts_->set_constraints(elimination.constraints());  // ξ, facets moved by (60)–(64)
     again = contacts_ && contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
     if (again && stats_.passes >= max_passes_)
       throw SolverError(fmt::format(

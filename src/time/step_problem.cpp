@@ -5,7 +5,7 @@ namespace conserve::time {
 template <int D>
 StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
                             fem::StressScheme scheme, const model::State& start, double dt, Eigen::VectorXd& u_np1,
-                            SparseMatrix& K, const contact::Elimination<D>* elimination)
+                            SparseMatrix& K, contact::Elimination<D>* elimination)
     : assembler_(assembler),
       mask_(mask),
       scheme_(scheme),
@@ -45,7 +45,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
     mask_.apply(K_, diagonal);
     return K_;
   }
-  elimination_->reduce_tangent(K_, K_reduced_);  // (43), (58)
+  elimination_->reduce_tangent(K_, g_, K_reduced_);  // (43), (58)
   if (reduced_mask_.pattern_size() != K_reduced_.nonZeros())
     reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
   reduced_mask_.apply(K_reduced_, diagonal);
@@ -55,8 +55,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
 template <int D>
 void StepProblem<D>::update(const Eigen::VectorXd& increment) {
   if (eliminating()) {
-    elimination_->expand(increment, du_);  // (45)
-    u_np1_ += du_;
+    elimination_->update(increment, u_np1_);  // (45), (60)–(64)
   } else {
     u_np1_ += increment;
   }

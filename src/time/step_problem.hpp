@@ -22,7 +22,7 @@ class StepProblem final : public solver::NewtonProblem {
   /// may be null (no active constraint).
   StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, fem::StressScheme scheme,
               const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K,
-              const contact::Elimination<D>* elimination = nullptr);
+              contact::Elimination<D>* elimination = nullptr);
 
   void residual(Eigen::VectorXd& r) override;
   const SparseMatrix& tangent() override;
@@ -42,7 +42,7 @@ class StepProblem final : public solver::NewtonProblem {
   double dt_;
   Eigen::VectorXd& u_np1_;
   SparseMatrix& K_;
-  const contact::Elimination<D>* elimination_;
+  contact::Elimination<D>* elimination_;
   SparseMatrix K_reduced_;
   assembly::DirichletMask reduced_mask_;
   Eigen::VectorXd inertia_n_;  ///< (2/Δt) M V_n + f_ext: the constant part

@@ -119,7 +119,8 @@ TEST(Surface, GroupsAreOrientedOutwardWhateverTheirInputOrder) {
 }
 
 TEST(Surface, GeneratorBoundaryGroupAndCurvedFaces) {
-  const auto mesh = mesh::generate_mesh("spherical_shell", {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.1}});
+  const auto mesh =
+      mesh::generate_mesh("spherical_shell", {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.1}});
   const auto model = test::one_body_model<3>(mesh, "ball");
   const auto all = make_surface<3>(model, 0, "boundary");
   EXPECT_EQ(all.num_facets(), mesh::boundary_facets(mesh).cols());
@@ -247,7 +248,7 @@ TEST(Surface, SurfaceOnlyBodyUsesItsGroups) {
   EXPECT_EQ(floor.num_facets(), 2);
   EXPECT_EQ(floor.nodes, (std::vector<int>{first, first + 1, first + 2, first + 3}));
   EXPECT_NEAR(normal_of<3>(floor, 0, model.X).z(), 1.0, 1e-15);  // kept as given
-  EXPECT_EQ(floor.facet_neighbours(1, 0), 1);  // the diagonal (0, 2)
+  EXPECT_EQ(floor.facet_neighbours(1, 0), 1);                    // the diagonal (0, 2)
   EXPECT_EQ(floor.facet_neighbours(2, 1), 0);
   EXPECT_EQ((floor.facet_neighbours.array() < 0).count(), 4);
   // "boundary" is the union of the groups, each facet once
@@ -275,7 +276,7 @@ TEST(Surface, NonManifoldEdgeHasNoNeighbourAndDoesNotCrash) {
   build_adjacency(s, 3);
   EXPECT_EQ(s.nodes, (std::vector<int>{0, 1, 2, 3, 4, 5}));
   for (int f = 0; f < 3; ++f) EXPECT_EQ(s.facet_neighbours(2, f), -1) << f;  // opposite node 2: the edge (0, 1)
-  EXPECT_EQ(s.facet_neighbours(0, 0), 3);  // edge (1, 2)
+  EXPECT_EQ(s.facet_neighbours(0, 0), 3);                                    // edge (1, 2)
   expect_consistent_neighbours(s);
   expect_consistent_node_facets(s);
 }

@@ -59,8 +59,8 @@ TEST(ScenarioRigid, RigidFalseIsDeformable) {
 TEST(ScenarioRigid, MaterialOfARigidBodyIsStillValidated) {
   const auto material = "[body.material]\nyoung = 1e9\npoisson = 0.7\ndensity = 100\n";  // lines 16–19
   EXPECT_TRUE(fails_with(two_bodies("", material), 18, "body[1].material.poisson", "0.7 is out of range"));
-  const auto s = parse_scenario(two_bodies("", "[body.material]\nyoung = 1e9\npoisson = 0.2\ndensity = 100\n"),
-                                case_file());
+  const auto s =
+      parse_scenario(two_bodies("", "[body.material]\nyoung = 1e9\npoisson = 0.2\ndensity = 100\n"), case_file());
   EXPECT_EQ(s.bodies[1].material.density, 100.0);
 }
 
@@ -90,8 +90,8 @@ TEST(ScenarioRigid, NoBoundaryOnARigidBody) {
 
 TEST(ScenarioRigid, TwoDimensionalRigidSegment) {
   const auto text = "dimension = 2\n" + test::with_mesh("generator = \"disc\"\nradius = 1\nsize = 0.1\n",
-                                                       "[[body]]\nname = \"ground\"\nrigid = true\nvelocity = [1, 0]\n"
-                                                       "[body.mesh]\ngenerator = \"segment\"\nlx = 4\nsize = 1\n");
+                                                        "[[body]]\nname = \"ground\"\nrigid = true\nvelocity = [1, 0]\n"
+                                                        "[body.mesh]\ngenerator = \"segment\"\nlx = 4\nsize = 1\n");
   const auto s = parse_scenario(text, case_file());
   EXPECT_TRUE(s.bodies[1].rigid);
   EXPECT_EQ(s.bodies[1].velocity, Eigen::Vector3d(1, 0, 0));

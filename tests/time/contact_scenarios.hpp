@@ -94,3 +94,48 @@ kind = ")" + kind + R"("
 }
 
 }  // namespace conserve::test
+
+namespace conserve::test {
+
+/// A glancing hit of a small elastic sphere (2D: disc) on a bigger one,
+/// both free (no gravity, nothing fixed): the master is curved and faceted,
+/// the slaves slide across its facets, and the hit spins both bodies.
+inline std::string glancing_spheres(int dim, const std::string& kind, double end) {
+  const bool d3 = dim == 3;
+  const std::string v = d3 ? "[2.0, 0.0, 0.0]" : "[2.0, 0.0]";
+  const std::string p_small = d3 ? "[-0.24, 0.09, 0.0]" : "[-0.24, 0.09]";
+  return "dimension = " + std::to_string(dim) + R"(
+[time]
+step = 5e-4
+end = )" + std::to_string(end) +
+         R"(
+[[body]]
+name = "small"
+translate = )" + p_small + R"(
+velocity = )" + v + R"(
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = ")" + (d3 ? "sphere" : "disc") + R"("
+radius = 0.1
+size = )" + (d3 ? "0.05" : "0.02") + R"(
+[[body]]
+name = "big"
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = ")" + (d3 ? "sphere" : "disc") + R"("
+radius = 0.15
+size = )" + (d3 ? "0.06" : "0.03") + R"(
+[[contact]]
+slave = "small"
+master = "big"
+kind = ")" + kind + R"("
+)";
+}
+
+}  // namespace conserve::test

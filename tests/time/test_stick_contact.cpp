@@ -5,86 +5,23 @@
 #include <cstdio>
 
 #include "contact_scenarios.hpp"
-#include "support/contact_run.hpp"
-#include "time/step_problem.hpp"
+#include "contact_checks.hpp"
 
 namespace conserve::time {
 namespace {
 
 using test::ContactRun;
 
-/// Steps until at least `min_active` constraints are active.
-template <int D>
-void run_until_contact(ContactRun<D>& run, std::size_t min_active, int max_steps) {
-  for (int n = 0; n < max_steps && run.contacts->constraints().size() < min_active; ++n) run.step();
-  ASSERT_GE(run.contacts->constraints().size(), min_active);
-}
-
-// The reduced tangent K_r = Tᵀ K T + β against central differences of the
-// reduced residual r(q) = Tᵀ g(u + T q), on every non-dummy, free unknown.
-template <int D>
-void check_reduced_tangent(ContactRun<D>& run) {
-  const auto& model = run.problem.model;
-  const contact::Elimination<D> elimination(model.num_nodes(), run.contacts->constraints());
-  Eigen::VectorXd u = run.state.u + run.scenario.time.step * run.state.v;  // a non-converged iterate
-  apply_prescribed(model.prescribed, run.state.time + run.scenario.time.step, u);
-  elimination.enforce(run.state.u, u);
-  const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
-  SparseMatrix K = run.assembler->pattern().make_matrix();
-  StepProblem<D> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, run.scenario.time.step, u,
-                         K, &elimination);
-  const Eigen::MatrixXd Kr(problem.tangent());
-  std::vector<char> skip(model.num_dofs(), 0);
-  for (int d : model.prescribed.dofs) skip[d] = 1;
-  for (const auto& c : run.contacts->constraints())
-    for (int i = 0; i < D; ++i) skip[c.slave * D + i] = 1;  // stick: all slave slots are dummies
-  const double h = 1e-7 * model.size();
-  double err = 0.0, scale = 0.0;
-  Eigen::VectorXd rp, rm, e = Eigen::VectorXd::Zero(model.num_dofs());
-  for (int j = 0; j < model.num_dofs(); ++j) {
-    if (skip[j]) continue;
-    e[j] = h;
-    problem.update(e);
-    problem.residual(rp);
-    problem.update(-2 * e);
-    problem.residual(rm);
-    problem.update(e);
-    e[j] = 0.0;
-    Eigen::VectorXd fd = (rp - rm) / (2 * h), col = Kr.col(j);
-    for (int i = 0; i < model.num_dofs(); ++i)
-      if (skip[i]) fd[i] = col[i] = 0.0;
-    err = std::max(err, (fd - col).norm());
-    scale = std::max(scale, col.norm());
-  }
-  std::printf("[ measured ] reduced stick tangent vs finite differences: %.2e relative (%zu constraints)\n",
-              err / scale, run.contacts->constraints().size());
-  ASSERT_GT(scale, 1.0);  // non-zero guard
-  EXPECT_LT(err, 1e-6 * scale);
-}
-
 TEST(StickContact, ReducedTangentMatchesFiniteDifferencesDeformableMaster) {
   ContactRun<3> run(test::two_boxes("stick", 0.2));
-  run_until_contact(run, 3, 100);
-  check_reduced_tangent(run);
+  test::run_until_contact(run, 3, 100);
+  EXPECT_LT(test::reduced_tangent_error(run), 1e-6);
 }
 
 TEST(StickContact, ReducedTangentMatchesFiniteDifferencesRigidMaster) {
   ContactRun<3> run(test::ball_on_plane("stick", 0.3));
-  run_until_contact(run, 3, 200);
-  check_reduced_tangent(run);
-}
-
-/// Gap of every active slave on its master facet at the end of the step.
-template <int D>
-double min_active_gap(const ContactRun<D>& run) {
-  const contact::Positions<D> x = run.positions();
-  double g = 1e300;
-  for (const auto& c : run.contacts->constraints()) {
-    contact::FacetNodes<D> xm;
-    for (int a = 0; a < D; ++a) xm.col(a) = x.col(c.master[a]);
-    g = std::min(g, contact::project<D>(x.col(c.slave), xm).gap);
-  }
-  return g;
+  test::run_until_contact(run, 3, 200);
+  EXPECT_LT(test::reduced_tangent_error(run), 1e-6);
 }
 
 struct Record {
@@ -110,7 +47,7 @@ Record run_and_record(ContactRun<D>& run) {
     r.releases += s.releases;
     r.max_passes = std::max(r.max_passes, s.passes);
     if (s.releases > 0 && r.first_release_step < 0) r.first_release_step = run.state.step;
-    if (!run.contacts->constraints().empty()) r.min_gap = std::min(r.min_gap, min_active_gap(run));
+    if (!run.contacts->constraints().empty()) r.min_gap = std::min(r.min_gap, test::min_active_gap(run));
   }
   r.final_active = run.contacts->constraints().size();
   return r;

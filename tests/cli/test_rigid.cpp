@@ -1,0 +1,217 @@
+// Rigid bodies end to end: a rigid bare surface moves exactly at its
+// velocity (read back from the VTU files), bad rigid or cell-less bodies are
+// rejected with one line, and the ball-on-plane example passes `check`.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "io/history_writer.hpp"
+#include "support/cli.hpp"
+
+namespace conserve::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+/// A box above a rigid square (9 nodes, listed last) rising at 0.5 m/s.
+const std::string kBoxAndRisingSquare = R"(title = "box above a rising rigid square"
+dimension = 3
+[time]
+step = 0.01
+end = 0.2
+[loads]
+gravity = [0.0, 0.0, -9.81]
+[output]
+vtu_every = 5
+[[body]]
+name = "box"
+translate = [0.0, 0.0, 1.0]
+[body.material]
+young = 1.0e5
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.4
+ly = 0.4
+lz = 0.3
+size = 0.2
+[[body]]
+name = "floor"
+rigid = true
+velocity = [0.0, 0.0, 0.5]
+[body.mesh]
+generator = "square"
+lx = 2.0
+ly = 2.0
+size = 1.0
+)";
+
+/// A 2D disc above a rigid segment (5 nodes, listed last) moving along x.
+const std::string kDiscAndSlidingSegment = R"(dimension = 2
+[time]
+step = 0.01
+end = 0.05
+[[body]]
+name = "disc"
+translate = [0.0, 1.0]
+[body.material]
+young = 1.0e5
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.3
+size = 0.15
+[[body]]
+name = "ground"
+rigid = true
+velocity = [0.25, 0.0]
+[body.mesh]
+generator = "segment"
+lx = 2.0
+size = 0.5
+)";
+
+std::vector<unsigned char> base64_decode(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<unsigned char> bytes;
+  std::uint32_t bits = 0;
+  int count = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    const auto value = alphabet.find(c);
+    if (value == std::string::npos) continue;
+    bits = (bits << 6) | static_cast<std::uint32_t>(value);
+    if ((count += 6) >= 8) bytes.push_back(static_cast<unsigned char>(bits >> (count -= 8)));
+  }
+  return bytes;
+}
+
+/// The Float64 point field `name` of a VTU file (3 values per point).
+std::vector<double> point_field(const std::string& xml, const std::string& name) {
+  const auto at = xml.find("Name=\"" + name + "\"");
+  EXPECT_NE(at, std::string::npos) << name;
+  if (at == std::string::npos) return {};
+  const auto start = xml.find('>', at) + 1;
+  const auto bytes = base64_decode(xml.substr(start, xml.find("</DataArray>", start) - start));
+  std::uint64_t size = 0;
+  std::memcpy(&size, bytes.data(), sizeof size);
+  std::vector<double> values(size / sizeof(double));
+  std::memcpy(values.data(), bytes.data() + sizeof size, size);
+  return values;
+}
+
+/// (time, file) of every data set of a .pvd file.
+std::vector<std::pair<double, std::string>> pvd_entries(const std::string& pvd) {
+  std::vector<std::pair<double, std::string>> entries;
+  for (auto at = pvd.find("timestep=\""); at != std::string::npos; at = pvd.find("timestep=\"", at + 1)) {
+    const double t = std::stod(pvd.substr(at + 10));
+    const auto file = pvd.find("file=\"", at) + 6;
+    entries.emplace_back(t, pvd.substr(file, pvd.find('"', file) - file));
+  }
+  return entries;
+}
+
+/// In every VTU of `dir`, the last `nodes` points have displacement
+/// velocity·t exactly (bit for bit) and velocity `velocity`.
+void expect_rigid_motion(const fs::path& dir, int nodes, const std::vector<double>& velocity) {
+  const auto entries = pvd_entries(slurp(dir / "solution.pvd"));
+  ASSERT_GE(entries.size(), 2u);
+  for (const auto& [t, file] : entries) {
+    SCOPED_TRACE(file);
+    const std::string xml = slurp(dir / file);
+    const auto u = point_field(xml, "displacement");
+    const auto v = point_field(xml, "velocity");
+    ASSERT_EQ(u.size(), v.size());
+    ASSERT_GE(u.size(), 3u * nodes);
+    for (std::size_t n = u.size() / 3 - nodes; n < u.size() / 3; ++n)
+      for (std::size_t k = 0; k < velocity.size(); ++k) {
+        const double expected = 0.0 + velocity[k] * t;  // value + rate·t, as prescribed
+        EXPECT_EQ(u[3 * n + k], expected) << "node " << n << " component " << k << " t = " << t;
+        // v_{n+1} = (2/Δt)(u_{n+1} − u_n) − v_n: exact up to round-off
+        EXPECT_NEAR(v[3 * n + k], velocity[k], 1e-12) << "node " << n << " component " << k;
+      }
+  }
+}
+
+TEST(Rigid, BareSquareMovesExactlyAtItsVelocity) {
+  const auto dir = scratch("rigid_square");
+  write_file(dir / "rigid.toml", kBoxAndRisingSquare);
+  const CliResult r = run_cli("run rigid.toml -o result -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("finished 20 steps"));
+  expect_rigid_motion(dir / "result", 9, {0.0, 0.0, 0.5});
+  const io::History h = io::read_history(dir / "result/history.csv");
+  ASSERT_EQ(h.rows.size(), 21u);
+  EXPECT_LT(h.column("L_z").back(), 0.0);  // the box falls; the massless square adds no momentum
+}
+
+TEST(Rigid, BareSegmentMovesExactlyAtItsVelocity2d) {
+  const auto dir = scratch("rigid_segment");
+  write_file(dir / "rigid.toml", kDiscAndSlidingSegment);
+  const CliResult r = run_cli("run rigid.toml -o result -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_rigid_motion(dir / "result", 5, {0.25, 0.0});
+}
+
+TEST(Rigid, CheckCountsTheRigidNodesAsPrescribedAndMassless) {
+  const auto dir = scratch("rigid_check");
+  write_file(dir / "rigid.toml", kBoxAndRisingSquare);
+  const CliResult r = run_cli("check rigid.toml", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("valid. 3D, 2 bodies"));
+  EXPECT_THAT(r.out, HasSubstr("(27 prescribed)"));  // 9 nodes × 3
+  EXPECT_THAT(r.out, HasSubstr("mass 48 kg"));       // the box only: 0.4 · 0.4 · 0.3 · 1000
+}
+
+/// `conserve check` of `scenario` fails with one line containing `what`.
+void expect_check_fails(const std::string& name, const std::string& scenario, const std::string& what) {
+  const auto dir = scratch(name);
+  write_file(dir / "scenario.toml", scenario);
+  const CliResult r = run_cli("check scenario.toml", dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(what));
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(Rigid, RigidBodyWithAngularVelocityIsRejected) {
+  expect_check_fails("rigid_spin",
+                     replaced(kBoxAndRisingSquare, "rigid = true\n", "rigid = true\nangular_velocity = [0, 0, 1]\n"),
+                     "scenario.toml:26: body[1].angular_velocity: is not allowed on a rigid body");
+}
+
+TEST(Rigid, CellLessDeformableBodyIsRejected) {
+  const auto text = replaced(replaced(kBoxAndRisingSquare, "rigid = true\n", ""), "[body.mesh]\ngenerator = \"square\"",
+                             "[body.material]\nyoung = 1.0e5\npoisson = 0.3\ndensity = 1000.0\n"
+                             "[body.mesh]\ngenerator = \"square\"");
+  expect_check_fails("rigid_bare_deformable", text,
+                     "body[1] 'floor': the mesh has no cells; only a rigid body may be a bare surface");
+}
+
+TEST(Rigid, BoundaryOnRigidBodyIsRejected) {
+  expect_check_fails("rigid_boundary", kBoxAndRisingSquare + "[[boundary]]\nbody = \"floor\"\ngroup = \"all\"\n",
+                     "boundary[0].body: body 'floor' is rigid");
+}
+
+TEST(Rigid, BallOnPlaneExamplePassesCheck) {
+  const auto example = fs::path(CONSERVE_SOURCE_DIR) / "examples/ball/ball_on_plane.toml";
+  const CliResult r = run_cli("check '" + example.string() + "'", scratch("ball_on_plane_check"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("valid. 3D, 2 bodies"));
+  EXPECT_THAT(r.out, HasSubstr("(27 prescribed)"));  // the plane: 3 × 3 nodes × 3
+}
+
+}  // namespace
+}  // namespace conserve::test

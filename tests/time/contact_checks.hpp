@@ -1,0 +1,81 @@
+#pragma once
+/// Checks shared by the contact tests.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "support/contact_run.hpp"
+#include "time/step_problem.hpp"
+
+namespace conserve::test {
+
+/// Steps until at least `min_active` constraints are active.
+template <int D>
+void run_until_contact(ContactRun<D>& run, std::size_t min_active, int max_steps) {
+  for (int n = 0; n < max_steps && run.contacts->constraints().size() < min_active; ++n) run.step();
+  ASSERT_GE(run.contacts->constraints().size(), min_active);
+}
+
+/// The reduced tangent against central differences of the reduced residual
+/// r(q) = Tᵀ g after the full update by q (step 1, and for frictionless
+/// slaves the mid-point projection and normal correction), on every free,
+/// non-dummy unknown, at a non-converged iterate of the next step.
+/// Returns the relative error.
+template <int D>
+double reduced_tangent_error(ContactRun<D>& run) {
+  const auto& model = run.problem.model;
+  const double dt = run.scenario.time.step;
+  Eigen::VectorXd u = run.state.u + dt * run.state.v + 1e-4 * dt * run.state.v.cwiseAbs();  // off the solution
+  time::apply_prescribed(model.prescribed, run.state.time + dt, u);
+  contact::Elimination<D> base(model.X, run.state.u, u, run.contacts->constraints(), run.contacts->pairs());
+  base.enforce(u);
+  const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
+  SparseMatrix K = run.assembler->pattern().make_matrix();
+  auto residual_after = [&](const Eigen::VectorXd& q) {
+    contact::Elimination<D> e = base;
+    Eigen::VectorXd u_q = u, r;
+    time::StepProblem<D> p(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u_q, K, &e);
+    p.update(q);
+    p.residual(r);
+    return r;
+  };
+  Eigen::VectorXd u_base = u, r0;
+  time::StepProblem<D> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u_base, K, &base);
+  problem.residual(r0);
+  const Eigen::MatrixXd Kr(problem.tangent());
+  std::vector<char> skip(model.num_dofs(), 0);
+  for (int d : model.prescribed.dofs) skip[d] = 1;
+  for (const auto& c : base.constraints())
+    for (int i = (c.kind == contact::Kind::frictionless ? D - 1 : 0); i < D; ++i) skip[c.slave * D + i] = 1;
+  const double h = 1e-7 * model.size();
+  double err = 0.0, scale = 0.0;
+  for (int j = 0; j < model.num_dofs(); ++j) {
+    if (skip[j]) continue;
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_dofs());
+    q[j] = h;
+    Eigen::VectorXd fd = (residual_after(q) - residual_after(-q)) / (2 * h), col = Kr.col(j);
+    for (int i = 0; i < model.num_dofs(); ++i)
+      if (skip[i]) fd[i] = col[i] = 0.0;
+    err = std::max(err, (fd - col).norm());
+    scale = std::max(scale, col.norm());
+  }
+  std::printf("[ measured ] reduced tangent vs finite differences: %.2e relative (%zu constraints)\n", err / scale,
+              base.constraints().size());
+  EXPECT_GT(scale, 1.0);  // non-zero guard
+  return err / scale;
+}
+
+/// Gap of every active slave on its master facet at the end of the step.
+template <int D>
+double min_active_gap(const ContactRun<D>& run) {
+  const contact::Positions<D> x = run.positions();
+  double g = 1e300;
+  for (const auto& c : run.contacts->constraints()) {
+    contact::FacetNodes<D> xm;
+    for (int a = 0; a < D; ++a) xm.col(a) = x.col(c.master[a]);
+    g = std::min(g, contact::project<D>(x.col(c.slave), xm).gap);
+  }
+  return g;
+}
+
+}  // namespace conserve::test
