@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "io/scenario.hpp"
 #include "simulation/run.hpp"
+#include "solver/blas_threads.hpp"
 
 namespace {
 
@@ -58,11 +59,14 @@ int main(int argc, char** argv) {
   std::string scenario_file, output_dir;
   bool quiet = false;
   int steps = -1;
+  int blas_threads = 1;
   CLI::App* run = app.add_subcommand("run", "run a scenario, writing history.csv and ParaView output");
   run->add_option("scenario", scenario_file, "scenario file (TOML)")->required();
   run->add_option("-o,--output", output_dir, "output directory (overrides [output].directory)");
   run->add_flag("-q,--quiet", quiet, "no progress line");
   run->add_option("--steps", steps, "stop after this many steps")->check(CLI::NonNegativeNumber);
+  run->add_option("--blas-threads", blas_threads, "threads of the BLAS under UMFPACK (default 1)")
+      ->check(CLI::PositiveNumber);
   CLI::App* check = app.add_subcommand("check", "validate a scenario (meshes included) without running it");
   check->add_option("scenario", scenario_file, "scenario file (TOML)")->required();
   try {
@@ -74,6 +78,7 @@ int main(int argc, char** argv) {
   return guarded([&] {
     const conserve::io::Scenario scenario = conserve::io::read_scenario(scenario_file);
     if (*check) return print_check(scenario_file, conserve::simulation::check(scenario));
+    conserve::solver::set_blas_threads(blas_threads);
     conserve::simulation::RunOptions options;
     if (!output_dir.empty()) options.output_directory = output_dir;
     if (quiet) options.progress = nullptr;

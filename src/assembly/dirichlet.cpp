@@ -1,9 +1,13 @@
 #include "assembly/dirichlet.hpp"
 
+#include <algorithm>
+
 namespace conserve::assembly {
 
 DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs)
-    : dofs_(dofs), pattern_size_(A.nonZeros()) {
+    : dofs_(dofs),
+      outer_(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1),
+      inner_(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros()) {
   std::vector<char> fixed(A.cols(), 0);
   for (int d : dofs) fixed[d] = 1;
   for (int col = 0; col < A.cols(); ++col)
@@ -14,6 +18,13 @@ DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs
       else if (fixed[row] || fixed[col])
         zero_positions_.push_back(p);
     }
+}
+
+bool DirichletMask::fits(const SparseMatrix& A) const {
+  return static_cast<Eigen::Index>(outer_.size()) == A.outerSize() + 1 &&
+         static_cast<Eigen::Index>(inner_.size()) == A.nonZeros() &&
+         std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
+         std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
 }
 
 void DirichletMask::apply(SparseMatrix& K, double diagonal) const {

@@ -21,14 +21,14 @@ class DirichletMask {
   /// Zeroes the prescribed entries of a residual.
   void apply(Eigen::VectorXd& r) const;
   [[nodiscard]] const std::vector<int>& dofs() const { return dofs_; }
-  /// Number of entries of the pattern the mask was made for.
-  [[nodiscard]] long pattern_size() const { return pattern_size_; }
+  /// Whether A has exactly the pattern the mask was made for.
+  [[nodiscard]] bool fits(const SparseMatrix& A) const;
 
  private:
   std::vector<int> dofs_;
   std::vector<int> zero_positions_;
   std::vector<int> diagonal_positions_;
-  long pattern_size_ = -1;
+  std::vector<int> outer_, inner_;  ///< the pattern the mask was made for
 };
 
 }  // namespace conserve::assembly

@@ -78,7 +78,7 @@ bool ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions
       const int s = pair.slave.nodes[i];
       if (is_active_[s] || released_[s] || prescribed_[s]) continue;
       const auto match = find_master<D>(x_np1.col(s), pair.master, pair.tree, x_np1, pair.search, normals[i]);
-      if (!match || match->projection.gap >= 0.0) continue;
+      if (!match || match->projection.gap >= -pair.search.penetration_tolerance) continue;
       if (!within_surface<D>(pair.master, *match, pair.search.inside_tolerance)) continue;
       // ξ̄ and n from the mid-point configuration of this solve (§5, §7).
       Match<D> mid = *match;

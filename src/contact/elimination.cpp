@@ -78,7 +78,12 @@ Elimination<D>::Elimination(int num_nodes, const std::vector<Constraint<D>>& con
 template <int D>
 Elimination<D>::Elimination(const Positions<D>& X, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
                             const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs)
-    : constraints_(constraints), pairs_(&pairs), X_(X), u_n_(u_n), num_nodes_(static_cast<int>(X.cols())) {
+    : constraints_(constraints),
+      pairs_(&pairs),
+      X_(X),
+      u_n_(u_n),
+      num_nodes_(static_cast<int>(X.cols())),
+      switches_(constraints.size(), 0) {
   build(&u);
 }
 
@@ -249,7 +254,15 @@ void Elimination<D>::project_frictionless(Eigen::VectorXd& u) {
       const Positions<D> x = positions(u), x_mid = 0.5 * (x + x_n);
       const ContactSurface& master = (*pairs_)[k.pair].master;
       Match<D> m{k.facet, project<D>(x_mid.col(k.slave), facet_nodes<D>(master, k.facet, x_mid))};
-      m = follow<D>(x_mid.col(k.slave), m, master, x_mid);
+      // Facet switching (§7), at most kMaxSwitches times per solve: a slave
+      // near a facet edge could otherwise hop between two facets from one
+      // Newton iteration to the next and stall it. After that the facet is
+      // kept and the projection extrapolated, which conservation allows.
+      int& switches = switches_[&k - constraints_.data()];
+      if (switches < kMaxSwitches) {
+        m = follow<D>(x_mid.col(k.slave), m, master, x_mid);
+        if (m.facet != k.facet) ++switches;
+      }
       k.facet = m.facet;
       for (int a = 0; a < D; ++a) k.master[a] = master.facets(a, m.facet);
       k.xi = m.projection.xi;

@@ -81,6 +81,8 @@ class Elimination {
   std::vector<std::pair<int, std::vector<std::pair<int, double>>>> slave_rows_;
   SparseMatrix T_, T_prime_, dummy_;
   std::vector<Local> locals_;
+  static constexpr int kMaxSwitches = 2;
+  std::vector<int> switches_;  ///< facet switches per constraint in this solve
 };
 
 }  // namespace conserve::contact

@@ -16,6 +16,10 @@ struct SearchSettings {
   /// facet's longest edge) behind it: deeper points belong to the far side.
   double depth_factor = 0.5;
   double inside_tolerance = 1e-10;  ///< isoparametric slack for inside()
+  /// A slave is activated only when it is more than this behind the master
+  /// [m], so that nodes lying on the surface (gap 0 up to round-off) are
+  /// not. Set to a round-off multiple of the facet size.
+  double penetration_tolerance = 0.0;
 };
 
 template <int D>

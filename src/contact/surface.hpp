@@ -37,7 +37,9 @@ template <int D>
 ContactSurface make_surface(const model::Model<D>& model, int body, const std::string& group);
 
 /// Adjacency from facets alone (used by make_surface; exposed for tests and
-/// for surfaces that are not part of a model).
+/// for surfaces that are not part of a model): sets `nodes`, `node_facets`
+/// and `facet_neighbours` from `facets` (dim rows). A side shared by more
+/// than two facets (non-manifold) gets no neighbour (−1).
 void build_adjacency(ContactSurface& surface, int dim);
 
 }  // namespace conserve::contact

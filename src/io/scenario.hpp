@@ -71,7 +71,7 @@ struct ContactSpec {
 
 /// Active-set control (ALGORITHM.md §7).
 struct ActiveSetSpec {
-  int max_passes = 10;  ///< solves of one step before giving up on a changing active set
+  int max_passes = 30;  ///< solves of one step before giving up on a changing active set
 };
 
 /// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for

@@ -279,7 +279,7 @@ SectionSpec active_set_section() {
           .keys = {
               {.name = "max_passes",
                .type = KeyType::integer,
-               .default_value = "10",
+               .default_value = "30",
                .min = at_least(1),
                .doc = "solves of one step before giving up on an active set that keeps changing"},
           }};

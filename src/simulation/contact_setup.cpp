@@ -39,7 +39,9 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     }
     pair.kind = spec.kind == io::ContactKind::stick ? contact::Kind::stick : contact::Kind::frictionless;
     pair.search.depth_factor = spec.depth_factor;
-    pair.search.search_distance = spec.depth_factor * longest_edge(pair.master, model);
+    const double h = longest_edge(pair.master, model);
+    pair.search.search_distance = spec.depth_factor * h;
+    pair.search.penetration_tolerance = 1e-9 * h;
     pairs.push_back(std::move(pair));
   }
   return pairs;

@@ -41,11 +41,16 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     if (!elimination.empty()) elimination.enforce(u_np1);
     StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, &elimination);
     const solver::NewtonReport report = solver::solve_newton(problem, solver_, newton_);
-    if (!report.converged)
+    if (!report.converged) {
+      std::string tail;  // the last residuals show stagnation or divergence
+      for (std::size_t k = report.residual_norms.size() > 6 ? report.residual_norms.size() - 6 : 0;
+           k < report.residual_norms.size(); ++k)
+        tail += fmt::format(" {:.2e}", report.residual_norms[k]);
       throw SolverError(fmt::format(
-          "Newton did not converge in step {} (t = {:.6g} s): residual {:.3e} after {} iterations "
+          "Newton did not converge in step {} (t = {:.6g} s) after {} iterations, last residuals{} N "
           "(try a smaller time step or more [newton].max_iterations)",
-          state.step + 1, t_np1, report.final_residual(), report.iterations));
+          state.step + 1, t_np1, report.iterations, tail));
+    }
     total.converged = true;
     total.iterations += report.iterations;
     total.residual_norms = report.residual_norms;

@@ -46,7 +46,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
     return K_;
   }
   elimination_->reduce_tangent(K_, g_, K_reduced_);  // (43), (58)
-  if (reduced_mask_.pattern_size() != K_reduced_.nonZeros())
+  if (!reduced_mask_.fits(K_reduced_))  // facet switches change the pattern
     reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
   reduced_mask_.apply(K_reduced_, diagonal);
   return K_reduced_;

@@ -137,7 +137,7 @@ TEST(Scenario, DefaultsApplied) {
   EXPECT_EQ(s.output.progress_every, 0);
   EXPECT_TRUE(s.boundaries.empty());
   EXPECT_TRUE(s.contacts.empty());
-  EXPECT_EQ(s.active_set.max_passes, 10);
+  EXPECT_EQ(s.active_set.max_passes, 30);
   ASSERT_EQ(s.bodies.size(), 1u);
   const auto& b = s.bodies[0];
   EXPECT_FALSE(b.rigid);

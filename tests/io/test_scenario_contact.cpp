@@ -108,7 +108,7 @@ TEST(ScenarioContact, PairWithDefaults) {
   EXPECT_EQ(c.master_group, "surface");
   EXPECT_EQ(c.kind, ContactKind::stick);
   EXPECT_EQ(c.depth_factor, 0.5);
-  EXPECT_EQ(s.active_set.max_passes, 10);
+  EXPECT_EQ(s.active_set.max_passes, 30);
 }
 
 TEST(ScenarioContact, EveryKeySet) {

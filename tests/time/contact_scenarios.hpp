@@ -139,3 +139,44 @@ kind = ")" + kind + R"("
 }
 
 }  // namespace conserve::test
+
+namespace conserve::test {
+
+/// A disc sliding fast along a rigid segment of several facets under
+/// gravity (2D): slaves cross facet boundaries of a prescribed master, so
+/// the reduced system's pattern changes inside Newton iterations.
+inline std::string disc_sliding_on_segment(double end) {
+  return R"(dimension = 2
+[time]
+step = 1e-3
+end = )" + std::to_string(end) +
+         R"(
+[loads]
+gravity = [0.0, -9.81]
+[[body]]
+name = "disc"
+translate = [-0.3, 0.1005]
+velocity = [3.0, -0.2]
+[body.material]
+young = 1.0e5
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.1
+size = 0.03
+[[body]]
+name = "floor"
+rigid = true
+[body.mesh]
+generator = "segment"
+lx = 2.0
+size = 0.05
+[[contact]]
+slave = "disc"
+master = "floor:surface"
+kind = "frictionless"
+)";
+}
+
+}  // namespace conserve::test
