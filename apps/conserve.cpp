@@ -22,6 +22,12 @@ void print_summary(const RunSummary& s) {
   fmt::print("relative drift: E {:.2e}  L ({:.2e}, {:.2e}, {:.2e})  J ({:.2e}, {:.2e}, {:.2e})\n", s.energy_drift,
              s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
              s.angular_drift.z());
+  const auto& t = s.timings;
+  fmt::print(
+      "time: assembly {:.2f} s, contact elimination {:.2f} s, factorization {:.2f} s ({} numeric, {} symbolic), "
+      "solve {:.2f} s, contact search {:.2f} s, output {:.2f} s\n",
+      t.assembly, t.elimination, t.factorization, t.factorizations, t.analyses, t.solve, t.contact_search,
+      s.output_seconds);
   if (s.activations + s.releases > 0)
     fmt::print("contact: {} activations, {} releases, largest gap at activation {:.3e} m\n", s.activations,
                s.releases, s.max_activation_gap);

@@ -56,6 +56,7 @@ OutputSpec parse_output(const Section& s) {
   output.directory = directory;
   output.vtu_every = s.integer("vtu_every");
   output.progress_every = s.integer("progress_every");
+  output.contact_state = s.boolean("contact_state");
   return output;
 }
 

@@ -103,6 +103,7 @@ struct OutputSpec {
   std::filesystem::path directory = "out";  ///< relative to the working directory
   int vtu_every = 10;      ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
   int progress_every = 0;  ///< 0: a progress line about once a second
+  bool contact_state = false;  ///< also write the slaves' contact state (gap, normal, facet) with each VTU
 };
 
 struct Scenario {

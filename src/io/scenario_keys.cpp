@@ -116,6 +116,11 @@ SectionSpec output_section() {
                .default_value = "0",
                .min = at_least(0),
                .doc = "print a progress line every N steps (0: about once a second)"},
+              {.name = "contact_state",
+               .type = KeyType::boolean,
+               .default_value = "false",
+               .doc = "with each VTU, also write every slave node's contact state (gap, master normal and facet, "
+                      "ξ) to vtu/contact_NNNNNN_pairK.vtu, for debugging contact in ParaView"},
           }};
 }
 

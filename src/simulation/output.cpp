@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "contact/debug_output.hpp"
 #include "core/error.hpp"
 
 namespace conserve::simulation {
@@ -26,9 +27,10 @@ std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) 
 
 template <int D>
 OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory,
-                              int vtu_every, const contact::ActiveSet<D>* contacts)
+                              int vtu_every, const contact::ActiveSet<D>* contacts, bool contact_state)
     : assembler_(assembler),
       contacts_(contacts),
+      contact_state_(contact_state && contacts),
       directory_(prepared(directory, vtu_every)),
       vtu_every_(vtu_every),
       history_(directory / "history.csv", history_columns()) {
@@ -78,6 +80,7 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   const std::string name = fmt::format("vtu/step_{:06d}.vtu", state.step);
   io::write_vtu(directory_ / name, grid);
   pvd_->add(state.time, name);
+  if (contact_state_) write_contact_state(state);
 }
 
 template <int D>
@@ -89,6 +92,24 @@ io::VtuField OutputWriter<D>::contact_field(int num_nodes) const {
   const auto& forces = contacts_->normal_forces();
   for (std::size_t i = 0; i < constraints.size(); ++i) f.values[constraints[i].slave] = forces[i];
   return f;
+}
+
+// The slaves' contact state as the search sees it now (debugging output).
+template <int D>
+void OutputWriter<D>::write_contact_state(const model::State& state) const {
+  const auto& model = assembler_.model();
+  const contact::Positions<D> x = model.X + state.u.reshaped(D, model.num_nodes());
+  const auto& pairs = contacts_->pairs();
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const auto& pair = pairs[p];
+    const std::vector<Vec<D>> normals = contact::node_normals<D>(pair.slave, x);
+    std::vector<std::optional<contact::Match<D>>> matches;
+    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
+      matches.push_back(contact::find_master<D>(x.col(pair.slave.nodes[i]), pair.master, pair.tree, x, pair.search,
+                                                normals[i]));
+    contact::write_contact_state_vtu<D>(directory_ / fmt::format("vtu/contact_{:06d}_pair{}.vtu", state.step, p),
+                                        pair.slave.nodes, x, matches);
+  }
 }
 
 template class OutputWriter<2>;

@@ -29,7 +29,7 @@ class OutputWriter {
   /// (may be null) adds the contact columns' values and the VTU field
   /// contact_normal_force.
   OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory, int vtu_every,
-               const contact::ActiveSet<D>* contacts = nullptr);
+               const contact::ActiveSet<D>* contacts = nullptr, bool contact_state = false);
 
   /// Appends the history row of `state` (step: what the step that produced
   /// it did; empty for the initial state) and writes a VTU if due.
@@ -38,8 +38,10 @@ class OutputWriter {
  private:
   void write_vtu(const model::State& state);
   [[nodiscard]] io::VtuField contact_field(int num_nodes) const;
+  void write_contact_state(const model::State& state) const;
   const assembly::Assembler<D>& assembler_;
   const contact::ActiveSet<D>* contacts_;
+  bool contact_state_;
   std::filesystem::path directory_;
   int vtu_every_;
   io::HistoryWriter history_;

@@ -57,7 +57,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   RunSummary summary;
   summary.output_directory = options.output_directory.value_or(sc.output.directory);
   OutputWriter<D> output(assembler, summary.output_directory, sc.output.vtu_every,
-                         contacts.empty() ? nullptr : &contacts);
+                         contacts.empty() ? nullptr : &contacts, sc.output.contact_state);
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(d0);
@@ -68,7 +68,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     const StepRecord record{integrator.step(state, sc.time.step), integrator.contact_stats()};
     const time::Diagnostics d = time::diagnostics<D>(assembler, state);
     const double e = drift.add(d, summary);
-    output.write(state, d, record, n == steps);
+    {
+      solver::ScopedTimer timer(summary.output_seconds);
+      output.write(state, d, record, n == steps);
+    }
     summary.mean_newton_iterations += record.newton.iterations;
     summary.max_newton_iterations = std::max(summary.max_newton_iterations, record.newton.iterations);
     summary.activations += record.contact.activations;
@@ -80,6 +83,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.steps = steps;
   summary.mean_newton_iterations /= std::max(steps, 1);
   summary.wall_seconds = progress.elapsed();
+  summary.timings = integrator.timings();
   return summary;
 }
 

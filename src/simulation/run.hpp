@@ -6,6 +6,7 @@
 
 #include "core/types.hpp"
 #include "io/scenario.hpp"
+#include "solver/timings.hpp"
 
 namespace conserve::simulation {
 
@@ -28,6 +29,8 @@ struct RunSummary {
   int releases = 0;                 ///< contact releases over the run
   double max_activation_gap = 0.0;  ///< largest gap of a slave at activation [m]
   std::filesystem::path output_directory;
+  solver::Timings timings;  ///< where the wall time went
+  double output_seconds = 0.0;  ///< writing history and VTU files
 };
 
 /// Runs the scenario, writing history.csv and VTU/PVD output. Throws

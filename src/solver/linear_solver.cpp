@@ -23,7 +23,10 @@ LinearSolver::LinearSolver() {
 }
 
 void LinearSolver::factorize(const SparseMatrix& A) {
+  ScopedTimer timer(timings_ ? timings_->factorization : unused_);
+  if (timings_) ++timings_->factorizations;
   if (!same_pattern(A)) {
+    if (timings_) ++timings_->analyses;
     lu_.analyzePattern(A);
     outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
     inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
@@ -36,6 +39,7 @@ void LinearSolver::factorize(const SparseMatrix& A) {
 }
 
 void LinearSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  ScopedTimer timer(timings_ ? timings_->solve : unused_);
   x = lu_.solve(b);
   if (lu_.info() != Eigen::Success) throw SolverError("UMFPACK solve failed");
 }

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+
 #include "core/error.hpp"
 #include "time/step_problem.hpp"
 
@@ -23,7 +25,9 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
       mask_(assembler.mass(), assembler.model().prescribed.dofs),
       K_(assembler.pattern().make_matrix()),
       contacts_(contacts && !contacts->empty() ? contacts : nullptr),
-      max_passes_(max_passes) {}
+      max_passes_(max_passes) {
+  solver_.set_timings(&timings_);
+}
 
 template <int D>
 solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
@@ -35,11 +39,14 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   solver::NewtonReport total;
   for (bool again = true; again;) {
     static const std::vector<contact::ContactPair<D>> no_pairs;
+    const auto start = std::chrono::steady_clock::now();
     contact::Elimination<D> elimination(assembler_.model().X, state.u, u_np1,
                                         contacts_ ? contacts_->constraints() : std::vector<contact::Constraint<D>>{},
                                         contacts_ ? contacts_->pairs() : no_pairs);
     if (!elimination.empty()) elimination.enforce(u_np1);
+    timings_.elimination += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, &elimination);
+    problem.set_timings(&timings_);
     const solver::NewtonReport report = solver::solve_newton(problem, solver_, newton_);
     if (!report.converged) {
       std::string tail;  // the last residuals show stagnation or divergence
@@ -55,7 +62,10 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     total.iterations += report.iterations;
     total.residual_norms = report.residual_norms;
     if (contacts_) contacts_->set_constraints(elimination.constraints());  // ξ, facets moved by (60)–(64)
-    again = contacts_ && contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
+    {
+      solver::ScopedTimer timer(timings_.contact_search);
+      again = contacts_ && contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
+    }
     if (again && stats_.passes >= max_passes_)
       throw SolverError(fmt::format(
           "the contact active set did not settle in step {} (t = {:.6g} s) after {} passes "

@@ -30,6 +30,8 @@ class Integrator {
   /// What the active set did in the last step.
   [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
   [[nodiscard]] const solver::LinearSolver& linear_solver() const { return solver_; }
+  /// Accumulated time per phase since construction.
+  [[nodiscard]] const solver::Timings& timings() const { return timings_; }
 
  private:
   const assembly::Assembler<D>& assembler_;
@@ -41,6 +43,7 @@ class Integrator {
   contact::ActiveSet<D>* contacts_;
   int max_passes_;
   contact::StepContactStats stats_;
+  solver::Timings timings_;
 };
 
 /// Puts the prescribed values u(t) on `u` and the rates on `v` (if given).

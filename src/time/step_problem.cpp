@@ -23,9 +23,13 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
 
 template <int D>
 void StepProblem<D>::residual(Eigen::VectorXd& r) {
-  assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_);
-  g_ = (2.0 / (dt_ * dt_)) * (assembler_.mass() * (u_np1_ - start_.u)) - inertia_n_ + f_int_;
+  {
+    solver::ScopedTimer timer(clock(&solver::Timings::assembly));
+    assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_);
+    g_ = (2.0 / (dt_ * dt_)) * (assembler_.mass() * (u_np1_ - start_.u)) - inertia_n_ + f_int_;
+  }
   if (eliminating()) {
+    solver::ScopedTimer timer(clock(&solver::Timings::elimination));
     elimination_->reduce_residual(g_, r);  // (41), (56)
   } else {
     r = g_;
@@ -35,7 +39,10 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
 
 template <int D>
 const SparseMatrix& StepProblem<D>::tangent() {
-  assembler_.internal_force_tangent(start_.u, u_np1_, scheme_, f_int_, K_);
+  {
+    solver::ScopedTimer timer(clock(&solver::Timings::assembly));
+    assembler_.internal_force_tangent(start_.u, u_np1_, scheme_, f_int_, K_);
+  }
   const double c = 2.0 / (dt_ * dt_);
   const SparseMatrix& M = assembler_.mass();
   Eigen::Map<Eigen::VectorXd>(K_.valuePtr(), K_.nonZeros()) +=
@@ -45,6 +52,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
     mask_.apply(K_, diagonal);
     return K_;
   }
+  solver::ScopedTimer timer(clock(&solver::Timings::elimination));
   elimination_->reduce_tangent(K_, g_, K_reduced_);  // (43), (58)
   if (!reduced_mask_.fits(K_reduced_))  // facet switches change the pattern
     reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
@@ -55,6 +63,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
 template <int D>
 void StepProblem<D>::update(const Eigen::VectorXd& increment) {
   if (eliminating()) {
+    solver::ScopedTimer timer(clock(&solver::Timings::elimination));
     elimination_->update(increment, u_np1_);  // (45), (60)–(64)
   } else {
     u_np1_ += increment;

@@ -11,6 +11,7 @@
 #include "contact/elimination.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
+#include "solver/timings.hpp"
 
 namespace conserve::time {
 
@@ -32,6 +33,8 @@ class StepProblem final : public solver::NewtonProblem {
   /// The full residual g at the last residual() call: on an active slave,
   /// the contact force it receives (33) [N].
   [[nodiscard]] const Eigen::VectorXd& full_residual() const { return g_; }
+  /// Accumulate assembly and elimination times there (may be null).
+  void set_timings(solver::Timings* timings) { timings_ = timings; }
 
  private:
   [[nodiscard]] bool eliminating() const { return elimination_ && !elimination_->empty(); }
@@ -48,6 +51,9 @@ class StepProblem final : public solver::NewtonProblem {
   Eigen::VectorXd inertia_n_;  ///< (2/Δt) M V_n + f_ext: the constant part
   Eigen::VectorXd f_int_, g_, du_;
   double force_scale_ = 0.0;
+  solver::Timings* timings_ = nullptr;
+  double unused_ = 0.0;
+  double& clock(double solver::Timings::*phase) { return timings_ ? timings_->*phase : unused_; }
 };
 
 }  // namespace conserve::time

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -33,6 +34,20 @@ std::string generated_block(const std::string& docs, const std::string& name) {
   return block + "\n";
 }
 
+/// The one switch that regenerates the generated blocks of docs/scenario.md:
+///   CONSERVE_REGENERATE_DOCS=1 ./build/release/tests/io/test_io --gtest_filter='ScenarioDocs.*'
+/// Replaces the text between the markers of `name` with `block`.
+void regenerate_if_asked(const std::string& name, const std::string& block) {
+  if (!std::getenv("CONSERVE_REGENERATE_DOCS")) return;
+  std::string docs = docs_text();
+  const auto begin_marker = "<!-- BEGIN " + name + " -->\n";
+  const auto begin = docs.find(begin_marker);
+  const auto end = docs.find("<!-- END " + name + " -->");
+  ASSERT_TRUE(begin != std::string::npos && end != std::string::npos && end > begin) << name;
+  docs.replace(begin + begin_marker.size(), end - begin - begin_marker.size(), "\n" + block + "\n");
+  std::ofstream(CONSERVE_SOURCE_DIR "/docs/scenario.md") << docs;
+}
+
 TEST(ScenarioDocs, EveryDeclaredKeyIsDocumented) {
   const auto docs = docs_text();
   ASSERT_FALSE(docs.empty()) << "docs/scenario.md is missing";
@@ -45,13 +60,15 @@ TEST(ScenarioDocs, EveryDeclaredKeyIsDocumented) {
 }
 
 TEST(ScenarioDocs, KeyReferenceIsGeneratedFromTheKeyTables) {
+  regenerate_if_asked("KEY REFERENCE", scenario_key_reference());
   EXPECT_EQ(generated_block(docs_text(), "KEY REFERENCE"), scenario_key_reference())
-      << "regenerate the block of docs/scenario.md from io::scenario_key_reference()";
+      << "regenerate: CONSERVE_REGENERATE_DOCS=1 ./build/release/tests/io/test_io --gtest_filter='ScenarioDocs.*'";
 }
 
 TEST(ScenarioDocs, GeneratorReferenceIsGeneratedFromTheCatalog) {
+  regenerate_if_asked("GENERATOR REFERENCE", generator_reference());
   EXPECT_EQ(generated_block(docs_text(), "GENERATOR REFERENCE"), generator_reference())
-      << "regenerate the block of docs/scenario.md from io::generator_reference()";
+      << "regenerate: CONSERVE_REGENERATE_DOCS=1 ./build/release/tests/io/test_io --gtest_filter='ScenarioDocs.*'";
 }
 
 TEST(ScenarioDocs, EveryTomlExampleParses) {
