@@ -9,14 +9,24 @@
 
 namespace conserve::simulation {
 
-std::vector<std::string> history_columns() {
-  return {"step",     "time",       "kinetic",         "strain",      "potential", "total",
-          "L_x",      "L_y",        "L_z",             "J_x",         "J_y",       "J_z",
-          "newton_iterations",      "residual",        "active_contacts",          "activations",
-          "releases", "active_set_passes", "max_activation_gap", "contact_force"};
+std::vector<std::string> history_columns(const std::vector<std::string>& body_names) {
+  std::vector<std::string> c = {"step",     "time",       "kinetic",         "strain",      "potential", "total",
+                                "L_x",      "L_y",        "L_z",             "J_x",         "J_y",       "J_z",
+                                "newton_iterations",      "residual",        "active_contacts",          "activations",
+                                "releases", "active_set_passes", "max_activation_gap", "contact_force"};
+  for (const auto& name : body_names)
+    for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
+  return c;
 }
 
 namespace {
+template <int D>
+std::vector<std::string> body_names(const model::Model<D>& model) {
+  std::vector<std::string> names;
+  for (const auto& b : model.bodies) names.push_back(b.name);
+  return names;
+}
+
 std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) {
   std::error_code ec;
   std::filesystem::create_directories(vtu_every > 0 ? dir / "vtu" : dir, ec);
@@ -33,7 +43,7 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
       contact_state_(contact_state && contacts),
       directory_(prepared(directory, vtu_every)),
       vtu_every_(vtu_every),
-      history_(directory / "history.csv", history_columns()) {
+      history_(directory / "history.csv", history_columns(body_names(assembler.model()))) {
   if (vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
 }
 
@@ -43,12 +53,14 @@ void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& 
   double contact_force = 0.0;
   for (double f : forces) contact_force += f;
   const contact::StepContactStats& c = step.contact;
-  history_.write_row({static_cast<double>(state.step), state.time, d.kinetic, d.strain, d.potential, d.total,
-                      d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z(),
-                      static_cast<double>(step.newton.iterations), step.newton.final_residual(),
-                      static_cast<double>(forces.size()), static_cast<double>(c.activations),
-                      static_cast<double>(c.releases), static_cast<double>(c.passes), c.max_activation_gap,
-                      contact_force});
+  std::vector<double> row = {static_cast<double>(state.step), state.time, d.kinetic, d.strain, d.potential, d.total,
+                             d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z(),
+                             static_cast<double>(step.newton.iterations), step.newton.final_residual(),
+                             static_cast<double>(forces.size()), static_cast<double>(c.activations),
+                             static_cast<double>(c.releases), static_cast<double>(c.passes), c.max_activation_gap,
+                             contact_force};
+  for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
+  history_.write_row(row);
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);
 }
 

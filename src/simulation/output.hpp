@@ -13,8 +13,9 @@
 
 namespace conserve::simulation {
 
-/// Column names of history.csv, in order.
-std::vector<std::string> history_columns();
+/// Column names of history.csv, in order: the totals, then each body's
+/// linear momentum "L_x:NAME", "L_y:NAME", "L_z:NAME".
+std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {});
 
 /// What one step did, for the history.
 struct StepRecord {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <fstream>
 
 #include "core/error.hpp"
 #include "simulation/contact_setup.hpp"
@@ -40,6 +41,24 @@ class DriftTracker {
   time::Diagnostics d0_;
   double energy_scale_, linear_scale_, angular_scale_;
 };
+
+/// The run's figures as JSON (for bench/ and scripts).
+void write_summary(const RunSummary& s, int dofs, const std::filesystem::path& file) {
+  const auto& t = s.timings;
+  std::ofstream out(file);
+  out << fmt::format(
+      "{{\n  \"steps\": {},\n  \"unknowns\": {},\n  \"wall_seconds\": {:.6g},\n"
+      "  \"mean_newton_iterations\": {:.6g},\n  \"max_newton_iterations\": {},\n"
+      "  \"energy_drift\": {:.6e},\n  \"linear_drift\": [{:.6e}, {:.6e}, {:.6e}],\n"
+      "  \"angular_drift\": [{:.6e}, {:.6e}, {:.6e}],\n  \"activations\": {},\n  \"releases\": {},\n"
+      "  \"max_activation_gap\": {:.6e},\n  \"seconds\": {{\"assembly\": {:.6g}, \"elimination\": {:.6g}, "
+      "\"factorization\": {:.6g}, \"solve\": {:.6g}, \"contact_search\": {:.6g}, \"output\": {:.6g}}},\n"
+      "  \"factorizations\": {},\n  \"symbolic_analyses\": {}\n}}\n",
+      s.steps, dofs, s.wall_seconds, s.mean_newton_iterations, s.max_newton_iterations, s.energy_drift,
+      s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
+      s.angular_drift.z(), s.activations, s.releases, s.max_activation_gap, t.assembly, t.elimination,
+      t.factorization, t.solve, t.contact_search, s.output_seconds, t.factorizations, t.analyses);
+}
 
 fem::StressScheme stress_scheme(io::StressScheme s) {
   return s == io::StressScheme::midpoint ? fem::StressScheme::midpoint : fem::StressScheme::conserving;
@@ -84,6 +103,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.mean_newton_iterations /= std::max(steps, 1);
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();
+  write_summary(summary, problem.model.num_dofs(), summary.output_directory / "summary.json");
   return summary;
 }
 

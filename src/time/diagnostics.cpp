@@ -18,6 +18,11 @@ Diagnostics diagnostics(const assembly::Assembler<D>& assembler, const model::St
     d.linear += pn;
     d.angular += x.cross(pn);
   }
+  for (const auto& body : model.bodies) {
+    Vec3 L = Vec3::Zero();
+    for (int n = body.first_node; n < body.first_node + body.num_nodes; ++n) L.head<D>() += p.segment<D>(n * D);
+    d.body_linear.push_back(L);
+  }
   return d;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 /// Discrete energies and momenta of a state (paper (23)–(24)).
+#include <vector>
+
 #include "assembly/assembler.hpp"
 #include "model/state.hpp"
 
@@ -12,6 +14,7 @@ struct Diagnostics {
   double total = 0.0;           ///< E = K + W + Π_ext [J]
   Vec3 linear = Vec3::Zero();   ///< L = Σ_A (MV)_A [kg m/s] (z = 0 in 2D)
   Vec3 angular = Vec3::Zero();  ///< J = Σ_A x_A × (MV)_A about the origin [kg m²/s] (2D: z only)
+  std::vector<Vec3> body_linear;  ///< L of each body [kg m/s]
 };
 
 template <int D>
