@@ -4,7 +4,7 @@
 # Usage: scripts/run-example.sh [examples/NAME.toml]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scenario="${1:-examples/ball/ball_flight.toml}"
+scenario="${1:-examples/ball/ball_on_plane.toml}"
 name="$(basename "$scenario" .toml)"
 bash scripts/build.sh release
 ./build/release/conserve run "$scenario" -o "out/$name"

@@ -4,7 +4,10 @@
 #include <fmt/format.h>
 
 #include <charconv>
+#include <map>
+#include <mutex>
 #include <optional>
+#include <sstream>
 
 #include "core/error.hpp"
 
@@ -52,19 +55,83 @@ std::vector<double> parse_row(const std::string& line, std::size_t columns, cons
   return row;
 }
 
+/// Files to resume rather than truncate, with the last step to keep.
+std::map<std::filesystem::path, int>& pending_resumes() {
+  static std::map<std::filesystem::path, int> pending;
+  return pending;
+}
+std::mutex& resume_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+std::optional<int> take_resume(const std::filesystem::path& file) {
+  const std::lock_guard lock(resume_mutex());
+  const auto it = pending_resumes().find(file);
+  if (it == pending_resumes().end()) return std::nullopt;
+  const int step = it->second;
+  pending_resumes().erase(it);
+  return step;
+}
+
+/// The header and the rows up to `last_step` of an existing history, as text.
+std::string kept_prefix(const std::filesystem::path& file, const std::string& header, int last_step) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot resume: no such history file", file.string()));
+  std::string line, kept;
+  if (!read_line(in, line) || line != header)
+    throw InputError(fmt::format("{}: cannot resume: its header differs from this run's columns", file.string()));
+  kept = line + '\n';
+  bool found = false;
+  while (read_line(in, line)) {
+    const auto step = to_double(line.substr(0, line.find(',')));
+    if (!step || *step > last_step) break;
+    found = found || *step == last_step;
+    kept += line + '\n';
+  }
+  if (!found)
+    throw InputError(fmt::format("{}: cannot resume: it has no row of step {}", file.string(), last_step));
+  return kept;
+}
+
+/// Writes `text` to FILE.tmp and renames it onto `file`.
+void replace_file(const std::filesystem::path& file, const std::string& text) {
+  auto temporary = file;
+  temporary += ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out.flush()) throw Error(fmt::format("{}: write failed", temporary.string()));
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, file, error);
+  if (error) throw Error(fmt::format("{}: cannot rename into place: {}", file.string(), error.message()));
+}
+
 }  // namespace
 
+void resume_history(const std::filesystem::path& file, int last_step) {
+  const std::lock_guard lock(resume_mutex());
+  pending_resumes()[file] = last_step;
+}
+
 HistoryWriter::HistoryWriter(const std::filesystem::path& file, std::vector<std::string> columns)
-    : out_(file, std::ios::trunc), columns_(columns.size()), file_(file) {
-  if (!out_) throw Error(fmt::format("{}: cannot open for writing", file.string()));
+    : columns_(columns.size()), file_(file) {
   for (const auto& name : columns) {
     if (name.empty() || name.find_first_of(",\r\n") != std::string::npos) {
       throw Error(
           fmt::format("{}: bad history column name '{}' (empty or with a comma or line break)", file.string(), name));
     }
   }
-  out_ << fmt::format("{}\n", fmt::join(columns, ",")) << std::flush;
-  if (!out_) throw Error(fmt::format("{}: write failed", file.string()));
+  const std::string header = fmt::format("{}", fmt::join(columns, ","));
+  if (const auto step = take_resume(file)) {
+    replace_file(file, kept_prefix(file, header, *step));
+    out_.open(file, std::ios::binary | std::ios::app);
+  } else {
+    out_.open(file, std::ios::trunc);
+    out_ << header << '\n' << std::flush;
+  }
+  if (!out_) throw Error(fmt::format("{}: cannot open for writing", file.string()));
 }
 
 void HistoryWriter::write_row(const std::vector<double>& values) {

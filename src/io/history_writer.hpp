@@ -10,7 +10,9 @@ namespace conserve::io {
 
 class HistoryWriter {
  public:
-  /// Creates (truncates) `file` and writes the header. Throws Error.
+  /// Creates (truncates) `file` and writes the header. Throws Error. If
+  /// resume_history(file, step) was called before, keeps the existing rows
+  /// up to that step instead (restarts).
   HistoryWriter(const std::filesystem::path& file, std::vector<std::string> columns);
   /// Writes one row; values.size() must equal the number of columns.
   /// Doubles are written with 17 significant digits (round-trip exact).
@@ -21,6 +23,12 @@ class HistoryWriter {
   std::size_t columns_;
   std::filesystem::path file_{};  ///< for messages
 };
+
+/// Restarts: the next HistoryWriter opened on `file` keeps the existing
+/// file's rows whose first column (the step) is ≤ `last_step` and appends
+/// after them, rather than truncating it. That writer throws InputError if
+/// the file is missing, has another header or lacks the row of `last_step`.
+void resume_history(const std::filesystem::path& file, int last_step);
 
 /// Reads a history written by HistoryWriter (for tests and plotting):
 /// header names and rows. Throws InputError on a malformed file.

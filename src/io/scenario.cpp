@@ -38,6 +38,11 @@ TimeSpec parse_time(const Section& s) {
   }
   time.scheme = s.string("scheme") == "midpoint" ? StressScheme::midpoint : StressScheme::conserving;
   time.mass = s.string("mass") == "lumped" ? MassKind::lumped : MassKind::consistent;
+  time.min_step = s.number("min_step");
+  if (time.min_step == 0.0) time.min_step = time.step / 1024.0;
+  if (time.min_step > time.step) {
+    s.fail("min_step", fmt::format("{} is larger than step = {}", time.min_step, time.step), "min_step ≤ step");
+  }
   return time;
 }
 
@@ -57,6 +62,7 @@ OutputSpec parse_output(const Section& s) {
   output.vtu_every = s.integer("vtu_every");
   output.progress_every = s.integer("progress_every");
   output.contact_state = s.boolean("contact_state");
+  output.checkpoint_every = s.integer("checkpoint_every");
   return output;
 }
 

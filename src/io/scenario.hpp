@@ -89,6 +89,9 @@ struct TimeSpec {
   double end = 0.0;   ///< end time [s], ≥ step
   StressScheme scheme = StressScheme::conserving;
   MassKind mass = MassKind::consistent;
+  /// Floor of the cutback: a step that fails is retried with Δt halved
+  /// while Δt/2 ≥ min_step [s]; ≤ step (0 in the file: step/1024).
+  double min_step = 0.0;
 };
 
 struct NewtonSpec {
@@ -104,6 +107,7 @@ struct OutputSpec {
   int vtu_every = 10;      ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
   int progress_every = 0;  ///< 0: a progress line about once a second
   bool contact_state = false;  ///< also write the slaves' contact state (gap, normal, facet) with each VTU
+  int checkpoint_every = 0;    ///< write checkpoints/ckpt_NNNNNN.bin every N steps (0: none)
 };
 
 struct Scenario {

@@ -61,6 +61,14 @@ SectionSpec time_section() {
            .default_value = "consistent",
            .choices = {"consistent", "lumped"},
            .doc = "mass matrix"},
+          {.name = "min_step",
+           .type = KeyType::number,
+           .default_value = "0",
+           .unit = "s",
+           .min = at_least(0),
+           .doc = "floor of the cutback (0: step/1024): a step whose Newton iteration fails is retried from the same state with "
+                  "Δt halved, while Δt/2 ≥ min_step (Δt doubles back, up to `step`, after 4 good steps); below the "
+                  "floor the run stops (exit code 3) with the last converged state saved; must be ≤ `step`"},
       }};
 }
 
@@ -121,6 +129,12 @@ SectionSpec output_section() {
                .default_value = "false",
                .doc = "with each VTU, also write every slave node's contact state (gap, master normal and facet, "
                       "ξ) to vtu/contact_NNNNNN_pairK.vtu, for debugging contact in ParaView"},
+              {.name = "checkpoint_every",
+               .type = KeyType::integer,
+               .default_value = "0",
+               .min = at_least(0),
+               .doc = "write a checkpoint every N steps to checkpoints/ckpt_NNNNNN.bin (0: none), to continue "
+                      "with `conserve run SCENARIO --restart FILE`"},
           }};
 }
 

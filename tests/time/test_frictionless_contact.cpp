@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 #include "contact_checks.hpp"
 #include "contact_scenarios.hpp"
@@ -137,6 +139,52 @@ TEST(FrictionlessContact, SlidingAcrossRigidFacetsKeepsTheMasterFixed) {
   EXPECT_GT(facet_changes, 5);
   EXPECT_EQ(rigid_motion, 0.0);
   EXPECT_LT(drift, 1e-9);
+}
+
+}  // namespace
+}  // namespace conserve::time
+
+namespace conserve::time {
+namespace {
+
+std::string example(const std::string& relative) {
+  std::ifstream in(std::string(CONSERVE_SOURCE_DIR) + "/examples/" + relative);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The paper's §6.1 (the example file itself, shortened): the velocity passes
+// from the first cylinder to the third, like Newton's cradle; E, L_x and
+// J_z are conserved (the frictionless plane only pushes along z).
+TEST(FrictionlessContact, ThreeCylindersPassTheirMomentumAlong) {
+  ContactRun<3> run(example("cylinders/three_cylinders.toml"));
+  const Diagnostics d0 = run.diagnostics();
+  double e = 0.0, lx = 0.0, jz = 0.0;
+  const int steps = 20;
+  for (int n = 0; n < steps; ++n) {
+    run.step();
+    const Diagnostics d = run.diagnostics();
+    e = std::max(e, std::abs(d.total - d0.total) / d0.total);
+    lx = std::max(lx, std::abs(d.linear.x() - d0.linear.x()) / d0.linear.x());
+    jz = std::max(jz, std::abs(d.angular.z() - d0.angular.z()) / d0.linear.norm() / 0.1);  // J_z0 = 0: scale p R
+  }
+  const Diagnostics d = run.diagnostics();
+  const double p0 = d0.body_linear[0].x();
+  std::printf("[ measured ] three cylinders, %d steps: L_x per cylinder / L_x0 = %.4f %.4f %.4f; drift E %.2e, "
+              "L_x %.2e, J_z/(|L0| R) %.2e\n",
+              steps, d.body_linear[0].x() / p0, d.body_linear[1].x() / p0, d.body_linear[2].x() / p0, e, lx, jz);
+  // At the paper's Δt the stiff discs' impacts (contact time ~1e-4 s) take
+  // one step each and leave ~19 % of the energy in vibration, so 8 % of the
+  // momentum stays in each of the first two (measured: 0.085, 0.083, 0.832;
+  // a mesh twice as fine gives 0.058, 0.038, 0.905, Δt/10 gives 0.043,
+  // 0.072, 0.886). The bounds below hold that measured behaviour.
+  EXPECT_LT(std::abs(d.body_linear[0].x()) / p0, 0.10);  // first two nearly at rest …
+  EXPECT_LT(std::abs(d.body_linear[1].x()) / p0, 0.10);
+  EXPECT_GT(d.body_linear[2].x() / p0, 0.80);  // … the third carries the momentum
+  EXPECT_LT(e, 1e-9);
+  EXPECT_LT(lx, 1e-9);
+  EXPECT_LT(jz, 1e-9);
 }
 
 }  // namespace

@@ -1,0 +1,69 @@
+#pragma once
+/// Checkpoints: everything a run needs to continue bit-identically from a
+/// step (state, step size and cutback state, active contact constraints,
+/// running drift maxima), tied to the scenario by a hash of its model and
+/// physics settings. Binary (raw doubles), written atomically.
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "contact/constraint.hpp"
+#include "io/scenario.hpp"
+#include "model/model.hpp"
+#include "model/state.hpp"
+
+namespace conserve::simulation {
+
+/// The run's accumulators that summary.json reports.
+struct RunTotals {
+  double energy_drift = 0.0;
+  Vec3 linear_drift = Vec3::Zero();
+  Vec3 angular_drift = Vec3::Zero();
+  double newton_iterations = 0.0;  ///< sum over the steps
+  int max_newton_iterations = 0;
+  int activations = 0;
+  int releases = 0;
+  double max_activation_gap = 0.0;
+};
+
+/// The adaptive step size: halved on a failed step, doubled back (up to
+/// the scenario's Δt) after `kGrowAfter` good steps in a row.
+struct StepControl {
+  static constexpr int kGrowAfter = 4;
+  double dt = 0.0;      ///< the step size to try next [s]
+  int good_steps = 0;   ///< converged steps since the last change of dt
+  int cutbacks = 0;     ///< failed attempts over the run
+};
+
+template <int D>
+struct Checkpoint {
+  std::uint64_t scenario_hash = 0;
+  model::State state;
+  StepControl control;
+  RunTotals totals;
+  std::vector<contact::Constraint<D>> constraints;
+};
+
+/// A hash of what determines the trajectory: the model (coordinates, cells,
+/// bodies' materials, prescribed dofs), gravity, time step, schemes, Newton
+/// and contact settings. Output settings and the end time are not in it,
+/// so a run may be continued further or with other output.
+template <int D>
+std::uint64_t scenario_hash(const io::Scenario& scenario, const model::Model<D>& model);
+
+/// "DIR/checkpoints/ckpt_NNNNNN.bin".
+std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step);
+
+/// Writes the checkpoint atomically (temporary file, then rename), creating
+/// the folder. Throws Error.
+template <int D>
+void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& checkpoint);
+
+/// Reads a checkpoint for a run of `model` with hash `expected_hash`.
+/// Throws InputError naming the file if it is not a checkpoint, is
+/// truncated, or belongs to another scenario or dimension.
+template <int D>
+Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t expected_hash,
+                              const model::Model<D>& model);
+
+}  // namespace conserve::simulation
