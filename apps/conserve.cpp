@@ -1,5 +1,5 @@
 // conserve: energy–momentum conserving finite-element dynamics.
-//   conserve run SCENARIO [-o DIR] [--quiet] [--steps N]
+//   conserve run SCENARIO [-o DIR] [--quiet] [--steps N] [--restart CHECKPOINT]
 //   conserve check SCENARIO
 // Every failure is one line on stderr and a non-zero exit code:
 // 1 bad input, 2 bad command line, 3 solver failure, 4 anything else.
@@ -28,9 +28,12 @@ void print_summary(const RunSummary& s) {
       "solve {:.2f} s, contact search {:.2f} s, output {:.2f} s\n",
       t.assembly, t.elimination, t.factorization, t.factorizations, t.analyses, t.solve, t.contact_search,
       s.output_seconds);
+  if (s.cutbacks > 0)
+    fmt::print("cutbacks: {} failed steps retried with a halved time step (smallest {:.3e} s), see steps.csv\n",
+               s.cutbacks, s.min_dt);
   if (s.activations + s.releases > 0)
-    fmt::print("contact: {} activations, {} releases, largest gap at activation {:.3e} m\n", s.activations,
-               s.releases, s.max_activation_gap);
+    fmt::print("contact: {} activations, {} releases, largest gap at activation {:.3e} m\n", s.activations, s.releases,
+               s.max_activation_gap);
   fmt::print("output: {}/history.csv, {}/solution.pvd\n", s.output_directory.string(), s.output_directory.string());
 }
 
@@ -62,7 +65,7 @@ int main(int argc, char** argv) {
   CLI::App app{"conserve: energy-momentum conserving finite-element dynamics with contact"};
   app.set_version_flag("--version", "conserve 0.1.0");
   app.require_subcommand(1);
-  std::string scenario_file, output_dir;
+  std::string scenario_file, output_dir, restart_file;
   bool quiet = false;
   int steps = -1;
   int blas_threads = 1;
@@ -71,6 +74,8 @@ int main(int argc, char** argv) {
   run->add_option("-o,--output", output_dir, "output directory (overrides [output].directory)");
   run->add_flag("-q,--quiet", quiet, "no progress line");
   run->add_option("--steps", steps, "stop after this many steps")->check(CLI::NonNegativeNumber);
+  run->add_option("--restart", restart_file,
+                  "continue from a checkpoint (OUT/checkpoints/ckpt_NNNNNN.bin) of the same scenario");
   run->add_option("--blas-threads", blas_threads, "threads of the BLAS under UMFPACK (default 1)")
       ->check(CLI::PositiveNumber);
   CLI::App* check = app.add_subcommand("check", "validate a scenario (meshes included) without running it");
@@ -89,6 +94,7 @@ int main(int argc, char** argv) {
     if (!output_dir.empty()) options.output_directory = output_dir;
     if (quiet) options.progress = nullptr;
     if (steps >= 0) options.max_steps = steps;
+    if (!restart_file.empty()) options.restart = restart_file;
     print_summary(conserve::simulation::run(scenario, options));
   });
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Installs every build, test and plotting dependency of conserve from Debian 12
-# packages. Idempotent: packages already present are skipped by apt, and the
-# package index is refreshed only when something is missing.
+# Installs every build, test, plotting and benchmark dependency of conserve
+# from Debian 12 packages (`time` is GNU time, for bench/run_paper.sh).
+# Idempotent: packages already present are skipped by apt, and the package
+# index is refreshed only when something is missing.
 set -euo pipefail
 
 packages=(
@@ -11,6 +12,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  time
 )
 
 missing=()

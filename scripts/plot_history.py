@@ -205,7 +205,7 @@ def plot_contact(h, out):
     a2.plot(h["time"], h["contact_force"], "C3-", lw=1, label="total normal force")
     a2.set_ylabel("total normal contact force [N]")
     lines = a1.get_lines() + a2.get_lines()
-    a1.legend(lines, [l.get_label() for l in lines], loc="upper right")
+    a1.legend(lines, [l.get_label() for l in lines], loc="upper left")
     save(fig, out / "contact.png")
     return "contact.png"
 
@@ -245,14 +245,15 @@ def plot_drift(h, out, expected, dim):
             ax.semilogy(t, np.maximum(d[1:], 1e-17), color=colours[label], ls="-" if ok else ":", lw=1.5 if ok else 1,
                         label=f"{label} ({'conserved' if ok else 'not conserved'})")
         # conserved components whose norm is not conserved
-        for name, arr, scale, flag_key, col in [("L", L, l_scale, "|L|", "C1"), ("J", J, j_scale, "|J|", "C2")]:
+        for name, arr, scale, flag_key, cols in [("L", L, l_scale, "|L|", ("C1", "C3", "C5")),
+                                                 ("J", J, j_scale, "|J|", ("C2", "C4", "C6"))]:
             if flags[flag_key]:
                 continue
             for k, c in enumerate(AXES):
                 if expected[name][k]:
                     d = np.abs(arr[:, k] - arr[0, k]) / max(scale, tiny)
-                    ax.semilogy(t, np.maximum(d[1:], 1e-17), color=col, ls="-", lw=1.5 - 0.3 * k,
-                                alpha=0.6 + 0.2 * (k % 2), label=f"{name}_{c} (conserved)")
+                    ax.semilogy(t, np.maximum(d[1:], 1e-17), color=cols[k], ls="-", lw=1,
+                                label=f"{name}_{c} (conserved)")
         title = "Conservation: relative drift |q(t) − q(0)| / scale(q)"
         note = "solid: expected conserved; dotted: not expected"
         if expected["reasons"]:
@@ -276,7 +277,12 @@ def main():
     out = args.out or args.history.parent
     out.mkdir(parents=True, exist_ok=True)
     h = read(args.history)
-    expected = expected_conservation(args.scenario) if args.scenario else None
+    expected = None
+    if args.scenario:
+        try:
+            expected = expected_conservation(args.scenario)
+        except (OSError, ValueError, KeyError, TypeError) as e:
+            print(f"plot_history: {args.scenario}: not used ({e})", file=sys.stderr)
     dim = expected["dim"] if expected else (2 if not (np.any(h["L_z"]) or np.any(h["J_x"]) or np.any(h["J_y"])) else 3)
     written = ["energy.png", "momentum.png"]
     plot_energy(h, out)

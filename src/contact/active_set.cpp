@@ -1,5 +1,7 @@
 #include "contact/active_set.hpp"
 
+#include <algorithm>
+
 namespace conserve::contact {
 
 template <int D>
@@ -12,6 +14,18 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
   for (int d : model.prescribed.dofs) prescribed_[d / D] = 1;
   const Positions<D> x = model.X;
   for (auto& pair : pairs_) pair.tree.build(pair.master.facets, x);
+}
+
+template <int D>
+void ActiveSet<D>::set_constraints(std::vector<Constraint<D>> constraints) {
+  const bool same_set = constraints.size() == active_.size() &&
+                        std::equal(constraints.begin(), constraints.end(), active_.begin(),
+                                   [](const Constraint<D>& a, const Constraint<D>& b) { return a.slave == b.slave; });
+  active_ = std::move(constraints);
+  if (same_set) return;  // the same slaves (the solve's own updates): flags and forces stand
+  std::fill(is_active_.begin(), is_active_.end(), 0);
+  for (const Constraint<D>& c : active_) is_active_[c.slave] = 1;
+  normal_forces_.assign(active_.size(), 0.0);
 }
 
 template <int D>

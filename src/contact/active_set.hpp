@@ -38,8 +38,10 @@ class ActiveSet {
   bool update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
               StepContactStats& stats);
 
-  /// The active set as it stands, e.g. to restore it (checkpoints).
-  void set_constraints(std::vector<Constraint<D>> constraints) { active_ = std::move(constraints); }
+  /// Replaces the active set (restoring a checkpoint or a failed step's
+  /// start, or taking back the slave updates of a solve); the per-node
+  /// flags follow, the normal forces are zero until the next update.
+  void set_constraints(std::vector<Constraint<D>> constraints);
 
  private:
   bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats);

@@ -77,7 +77,7 @@ std::optional<int> take_resume(const std::filesystem::path& file) {
 /// The header and the rows up to `last_step` of an existing history, as text.
 std::string kept_prefix(const std::filesystem::path& file, const std::string& header, int last_step) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot resume: no such history file", file.string()));
+  if (!in) return header + '\n';  // a restart into a new folder: the rows start after the restart step
   std::string line, kept;
   if (!read_line(in, line) || line != header)
     throw InputError(fmt::format("{}: cannot resume: its header differs from this run's columns", file.string()));
@@ -89,8 +89,7 @@ std::string kept_prefix(const std::filesystem::path& file, const std::string& he
     found = found || *step == last_step;
     kept += line + '\n';
   }
-  if (!found)
-    throw InputError(fmt::format("{}: cannot resume: it has no row of step {}", file.string(), last_step));
+  if (!found) throw InputError(fmt::format("{}: cannot resume: it has no row of step {}", file.string(), last_step));
   return kept;
 }
 

@@ -26,8 +26,9 @@ class HistoryWriter {
 
 /// Restarts: the next HistoryWriter opened on `file` keeps the existing
 /// file's rows whose first column (the step) is ≤ `last_step` and appends
-/// after them, rather than truncating it. That writer throws InputError if
-/// the file is missing, has another header or lacks the row of `last_step`.
+/// after them, rather than truncating it (a missing file is started anew).
+/// That writer throws InputError if the file has another header or lacks
+/// the row of `last_step`.
 void resume_history(const std::filesystem::path& file, int last_step);
 
 /// Reads a history written by HistoryWriter (for tests and plotting):

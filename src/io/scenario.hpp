@@ -100,12 +100,14 @@ struct NewtonSpec {
   double residual_tolerance = 1e-12;
   /// or when |Δ| ≤ increment_tolerance · (size of the model)
   double increment_tolerance = 1e-13;
+  /// modified Newton: reuse factorizations while convergence is fast
+  bool reuse_factorization = false;
 };
 
 struct OutputSpec {
   std::filesystem::path directory = "out";  ///< relative to the working directory
-  int vtu_every = 10;      ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
-  int progress_every = 0;  ///< 0: a progress line about once a second
+  int vtu_every = 10;          ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
+  int progress_every = 0;      ///< 0: a progress line about once a second
   bool contact_state = false;  ///< also write the slaves' contact state (gap, normal, facet) with each VTU
   int checkpoint_every = 0;    ///< write checkpoints/ckpt_NNNNNN.bin every N steps (0: none)
 };

@@ -66,7 +66,8 @@ SectionSpec time_section() {
            .default_value = "0",
            .unit = "s",
            .min = at_least(0),
-           .doc = "floor of the cutback (0: step/1024): a step whose Newton iteration fails is retried from the same state with "
+           .doc = "floor of the cutback (0: step/1024): a step whose Newton iteration fails is retried from the same "
+                  "state with "
                   "Δt halved, while Δt/2 ≥ min_step (Δt doubles back, up to `step`, after 4 good steps); below the "
                   "floor the run stops (exit code 3) with the last converged state saved; must be ≤ `step`"},
       }};
@@ -91,6 +92,11 @@ SectionSpec newton_section() {
                .default_value = "1e-13",
                .min = above(0),
                .doc = "or when |Δu| ≤ tolerance · (size of the model)"},
+              {.name = "reuse_factorization",
+               .type = KeyType::boolean,
+               .default_value = "false",
+               .doc = "modified Newton: keep a factorization across iterations and steps while each iteration "
+                      "reduces the residual 4×; linear convergence, far fewer factorizations, same conservation"},
           }};
 }
 

@@ -136,8 +136,9 @@ void Section::check_unknown_keys() const {
   if (spec_->open) return;
   const toml::key* first = nullptr;  // the first unknown key in the file
   for (const auto& [key, node] : *table_) {
-    const bool known = std::any_of(spec_->keys.begin(), spec_->keys.end(),
-                                   [&](const KeySpec& spec) { return spec.name == key.str(); });
+    const std::string_view name = key.str();  // clang 14 cannot capture a structured binding
+    const bool known =
+        std::any_of(spec_->keys.begin(), spec_->keys.end(), [&](const KeySpec& spec) { return spec.name == name; });
     if (!known && (!first || line_of(node) < line_of(*find(first->str())))) first = &key;
   }
   if (!first) return;

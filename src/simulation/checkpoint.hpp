@@ -30,9 +30,9 @@ struct RunTotals {
 /// the scenario's Δt) after `kGrowAfter` good steps in a row.
 struct StepControl {
   static constexpr int kGrowAfter = 4;
-  double dt = 0.0;      ///< the step size to try next [s]
-  int good_steps = 0;   ///< converged steps since the last change of dt
-  int cutbacks = 0;     ///< failed attempts over the run
+  double dt = 0.0;     ///< the step size to try next [s]
+  int good_steps = 0;  ///< converged steps since the last change of dt
+  int cutbacks = 0;    ///< failed attempts over the run
 };
 
 template <int D>
@@ -45,9 +45,11 @@ struct Checkpoint {
 };
 
 /// A hash of what determines the trajectory: the model (coordinates, cells,
-/// bodies' materials, prescribed dofs), gravity, time step, schemes, Newton
-/// and contact settings. Output settings and the end time are not in it,
-/// so a run may be continued further or with other output.
+/// bodies' materials, prescribed dofs, initial conditions), gravity, time
+/// step, schemes, Newton tolerances and contact pairs. The end time, output
+/// settings and the effort limits (min_step, max_iterations, max_passes)
+/// are not in it, so that a run may be continued further, with other
+/// output, or with more effort after a failure.
 template <int D>
 std::uint64_t scenario_hash(const io::Scenario& scenario, const model::Model<D>& model);
 

@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 #include <cmath>
 #include <fstream>
+#include <memory>
 
 #include "core/error.hpp"
+#include "io/history_writer.hpp"
+#include "simulation/checkpoint.hpp"
 #include "simulation/contact_setup.hpp"
 #include "simulation/output.hpp"
 #include "simulation/progress.hpp"
@@ -29,7 +32,7 @@ class DriftTracker {
     linear_scale_ = std::max(d0.linear.norm(), 1e-300);
     angular_scale_ = std::max(d0.angular.norm(), 1e-300);
   }
-  double add(const time::Diagnostics& d, RunSummary& s) const {
+  double add(const time::Diagnostics& d, RunTotals& s) const {
     const double e = std::abs(d.total - d0_.total) / energy_scale_;
     s.energy_drift = std::max(s.energy_drift, e);
     s.linear_drift = s.linear_drift.cwiseMax((d.linear - d0_.linear).cwiseAbs() / linear_scale_);
@@ -53,57 +56,173 @@ void write_summary(const RunSummary& s, int dofs, const std::filesystem::path& f
       "  \"angular_drift\": [{:.6e}, {:.6e}, {:.6e}],\n  \"activations\": {},\n  \"releases\": {},\n"
       "  \"max_activation_gap\": {:.6e},\n  \"seconds\": {{\"assembly\": {:.6g}, \"elimination\": {:.6g}, "
       "\"factorization\": {:.6g}, \"solve\": {:.6g}, \"contact_search\": {:.6g}, \"output\": {:.6g}}},\n"
-      "  \"factorizations\": {},\n  \"symbolic_analyses\": {}\n}}\n",
+      "  \"factorizations\": {},\n  \"symbolic_analyses\": {},\n  \"cutbacks\": {},\n  \"min_dt\": {:.6e}\n}}\n",
       s.steps, dofs, s.wall_seconds, s.mean_newton_iterations, s.max_newton_iterations, s.energy_drift,
       s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
-      s.angular_drift.z(), s.activations, s.releases, s.max_activation_gap, t.assembly, t.elimination,
-      t.factorization, t.solve, t.contact_search, s.output_seconds, t.factorizations, t.analyses);
+      s.angular_drift.z(), s.activations, s.releases, s.max_activation_gap, t.assembly, t.elimination, t.factorization,
+      t.solve, t.contact_search, s.output_seconds, t.factorizations, t.analyses, s.cutbacks, s.min_dt);
+}
+
+solver::NewtonSettings newton_settings(const io::NewtonSpec& n) {
+  solver::NewtonSettings s{n.max_iterations, n.residual_tolerance, n.increment_tolerance};
+  s.reuse_factorization = n.reuse_factorization;
+  return s;
 }
 
 fem::StressScheme stress_scheme(io::StressScheme s) {
   return s == io::StressScheme::midpoint ? fem::StressScheme::midpoint : fem::StressScheme::conserving;
 }
 
+/// Puts a fresh active set holding `constraints` in place of `contacts`, at
+/// the same address (the integrator and the output hold pointers to it).
+/// ActiveSet::set_constraints alone would keep the per-node flags of a
+/// failed attempt: a slave activated in it would never be activated again.
+/// The run's contact set and integrator, and the step control around them.
+template <int D>
+struct Stepper {
+  const io::Scenario& scenario;
+  const model::Model<D>& model;
+  contact::ActiveSet<D>& contacts;
+  time::Integrator<D>& integrator;
+  StepControl& control;
+  double nominal_dt;  ///< the scenario's Δt
+  double min_dt;      ///< the cutback floor
+};
+
+/// The last converged state could not be advanced even at the floor.
+struct FloorReached {
+  std::string reason;  ///< the last SolverError's message
+  double dt;           ///< the step size that failed
+};
+
+/// One converged step from `state`: retried from the same state (and the
+/// same active set) with Δt halved after each failure; Δt doubles back
+/// towards the nominal one after StepControl::kGrowAfter good steps.
+/// `dt_used` and `failures` tell what it took. Throws FloorReached.
+template <int D>
+StepRecord advance(Stepper<D>& s, model::State& state, double& dt_used, int& failures) {
+  const std::vector<contact::Constraint<D>> saved = s.contacts.constraints();
+  failures = 0;
+  for (;;) {
+    try {
+      dt_used = s.control.dt;
+      StepRecord record{s.integrator.step(state, dt_used), s.integrator.contact_stats()};
+      if (++s.control.good_steps >= StepControl::kGrowAfter && s.control.dt < s.nominal_dt) {
+        s.control.dt = std::min(2.0 * s.control.dt, s.nominal_dt);
+        s.control.good_steps = 0;
+        s.integrator.drop_factorization();
+      }
+      return record;
+    } catch (const SolverError& e) {
+      s.contacts.set_constraints(saved);
+      s.integrator.drop_factorization();
+      if (0.5 * s.control.dt < s.min_dt) throw FloorReached{e.what(), s.control.dt};
+      s.control.dt *= 0.5;
+      s.control.good_steps = 0;
+      ++s.control.cutbacks;
+      ++failures;
+    }
+  }
+}
+
+/// True once `state` has reached the end time (the last step may overshoot
+/// it, as with a fixed Δt that does not divide the end time).
+bool finished(const io::TimeSpec& t, const model::State& state) { return state.time >= t.end - 1e-6 * t.step; }
+
 template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const Problem<D> problem = setup<D>(sc);
   const assembly::Assembler<D> assembler(problem.model, sc.time.mass == io::MassKind::lumped);
   contact::ActiveSet<D> contacts(problem.model, make_contact_pairs<D>(sc, problem.model));
-  time::Integrator<D> integrator(
-      assembler, stress_scheme(sc.time.scheme),
-      {sc.newton.max_iterations, sc.newton.residual_tolerance, sc.newton.increment_tolerance}, &contacts,
-      sc.active_set.max_passes);
+  time::Integrator<D> integrator(assembler, stress_scheme(sc.time.scheme), newton_settings(sc.newton), &contacts,
+                                 sc.active_set.max_passes);
   RunSummary summary;
   summary.output_directory = options.output_directory.value_or(sc.output.directory);
-  OutputWriter<D> output(assembler, summary.output_directory, sc.output.vtu_every,
-                         contacts.empty() ? nullptr : &contacts, sc.output.contact_state);
+  const std::filesystem::path& dir = summary.output_directory;
+  const std::uint64_t hash = scenario_hash<D>(sc, problem.model);
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(d0);
-  const int steps = std::min(step_count(sc.time), options.max_steps.value_or(1 << 30));
-  output.write(state, d0, StepRecord{}, steps == 0);
-  ProgressLine progress(options.progress, steps, sc.output.progress_every);
-  for (int n = 1; n <= steps; ++n) {
-    const StepRecord record{integrator.step(state, sc.time.step), integrator.contact_stats()};
+  StepControl control{.dt = sc.time.step};
+  RunTotals totals;
+  if (options.restart) {
+    Checkpoint<D> c = read_checkpoint<D>(*options.restart, hash, problem.model);
+    state = std::move(c.state);
+    control = c.control;
+    totals = c.totals;
+    contacts.set_constraints(std::move(c.constraints));
+    io::resume_history(dir / "history.csv", state.step);
+    io::resume_history(dir / "steps.csv", state.step);
+  }
+  OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contacts.empty() ? nullptr : &contacts,
+                         sc.output.contact_state);
+  io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
+  const int max_steps = options.max_steps.value_or(1 << 30);
+  if (!options.restart) {
+    output.write(state, d0, StepRecord{}, finished(sc.time, state) || max_steps == 0);
+    steps_csv.write_row({0.0, state.time, 0.0, 0.0});
+  }
+  auto save = [&](const model::State& s, std::vector<contact::Constraint<D>> constraints) {
+    const auto file = checkpoint_path(dir, s.step);
+    write_checkpoint<D>(file, {hash, s, control, totals, std::move(constraints)});
+    return file;
+  };
+  Stepper<D> stepper{sc, problem.model, contacts, integrator, control, sc.time.step, sc.time.min_step};
+  // The last step of this invocation, as far as known before cutbacks.
+  const int last_step = static_cast<int>(std::min<long>(step_count(sc.time), long{state.step} + max_steps));
+  ProgressLine progress(options.progress, last_step, sc.output.progress_every);
+  summary.min_dt = control.dt;
+  const int first_cutbacks = control.cutbacks;
+  int taken = 0;
+  for (; taken < max_steps && !finished(sc.time, state); ++taken) {
+    double dt = 0.0;
+    int failures = 0;
+    StepRecord record;
+    try {
+      record = advance<D>(stepper, state, dt, failures);
+    } catch (const FloorReached& f) {
+      progress.finish();
+      const auto file = save(state, contacts.constraints());
+      throw SolverError(fmt::format(
+          "step {} failed even with Δt = {:.6g} s ([time].min_step = {:.6g} s): {}; the last converged state "
+          "(step {}, t = {:.9g} s) is in {} and {} (continue with --restart)",
+          state.step + 1, f.dt, sc.time.min_step, f.reason, state.step, state.time, (dir / "history.csv").string(),
+          file.string()));
+    }
+    summary.min_dt = std::min(summary.min_dt, dt);
     const time::Diagnostics d = time::diagnostics<D>(assembler, state);
-    const double e = drift.add(d, summary);
+    const double e = drift.add(d, totals);
     {
       solver::ScopedTimer timer(summary.output_seconds);
-      output.write(state, d, record, n == steps);
+      output.write(state, d, record, taken + 1 == max_steps || finished(sc.time, state));
+      steps_csv.write_row({static_cast<double>(state.step), state.time, dt, static_cast<double>(failures)});
     }
-    summary.mean_newton_iterations += record.newton.iterations;
-    summary.max_newton_iterations = std::max(summary.max_newton_iterations, record.newton.iterations);
-    summary.activations += record.contact.activations;
-    summary.releases += record.contact.releases;
-    summary.max_activation_gap = std::max(summary.max_activation_gap, record.contact.max_activation_gap);
-    progress.update(n, state.time, e, record.newton.iterations);
+    totals.newton_iterations += record.newton.iterations;
+    totals.max_newton_iterations = std::max(totals.max_newton_iterations, record.newton.iterations);
+    totals.activations += record.contact.activations;
+    totals.releases += record.contact.releases;
+    totals.max_activation_gap = std::max(totals.max_activation_gap, record.contact.max_activation_gap);
+    if (sc.output.checkpoint_every > 0 && state.step % sc.output.checkpoint_every == 0) {
+      solver::ScopedTimer timer(summary.output_seconds);
+      integrator.drop_factorization();  // a restart starts without one
+      save(state, contacts.constraints());
+    }
+    progress.update(state.step, state.time, e, record.newton.iterations);
   }
   progress.finish();
-  summary.steps = steps;
-  summary.mean_newton_iterations /= std::max(steps, 1);
+  summary.steps = taken;
+  summary.energy_drift = totals.energy_drift;
+  summary.linear_drift = totals.linear_drift;
+  summary.angular_drift = totals.angular_drift;
+  summary.mean_newton_iterations = totals.newton_iterations / std::max(state.step, 1);
+  summary.max_newton_iterations = totals.max_newton_iterations;
+  summary.activations = totals.activations;
+  summary.releases = totals.releases;
+  summary.max_activation_gap = totals.max_activation_gap;
+  summary.cutbacks = control.cutbacks - first_cutbacks;
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();
-  write_summary(summary, problem.model.num_dofs(), summary.output_directory / "summary.json");
+  write_summary(summary, problem.model.num_dofs(), dir / "summary.json");
   return summary;
 }
 

@@ -13,7 +13,11 @@ namespace conserve::simulation {
 struct RunOptions {
   std::optional<std::filesystem::path> output_directory;  ///< overrides [output].directory
   std::FILE* progress = stderr;                           ///< nullptr: silent
-  std::optional<int> max_steps;                           ///< stop early (smoke tests)
+  std::optional<int> max_steps;                           ///< stop after this many steps of this invocation
+  /// Continue from this checkpoint (simulation/checkpoint.hpp): the state,
+  /// step size and active set are restored, history.csv and steps.csv keep
+  /// their rows up to the checkpoint's step and continue after it.
+  std::optional<std::filesystem::path> restart;
 };
 
 /// What a finished run measured.
@@ -29,13 +33,19 @@ struct RunSummary {
   int releases = 0;                 ///< contact releases over the run
   double max_activation_gap = 0.0;  ///< largest gap of a slave at activation [m]
   std::filesystem::path output_directory;
-  solver::Timings timings;  ///< where the wall time went
+  solver::Timings timings;      ///< where the wall time went
   double output_seconds = 0.0;  ///< writing history and VTU files
+  int cutbacks = 0;             ///< failed step attempts retried with Δt halved
+  double min_dt = 0.0;          ///< smallest step size used [s]
 };
 
-/// Runs the scenario, writing history.csv and VTU/PVD output. Throws
-/// InputError on bad input and SolverError when a step does not converge
-/// (the output written up to the last converged step stays).
+/// Runs the scenario, writing history.csv, steps.csv (step, time, dt,
+/// cutbacks), VTU/PVD output and checkpoints. A step that fails is retried
+/// from the same state with Δt halved, down to [time].min_step; Δt grows
+/// back after StepControl::kGrowAfter good steps. Throws InputError on bad
+/// input and SolverError when a step fails at the floor: the output up to
+/// the last converged step stays, and that state is saved as a checkpoint
+/// (named in the message).
 RunSummary run(const io::Scenario& scenario, const RunOptions& options);
 
 /// The model a scenario describes, without running it.

@@ -1,9 +1,14 @@
 #include "simulation/setup.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 #include <set>
+#include <unordered_map>
 
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
@@ -92,6 +97,103 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
     if (scenario.bodies[i].rigid) prescribe_rigid<D>(scenario.bodies[i], model.bodies[i], model.prescribed);
 }
 
+template <int D>
+using Positions = Eigen::Matrix<double, D, Eigen::Dynamic>;
+
+/// The cells of one body binned on a uniform grid by their bounding boxes.
+template <int D>
+class CellGrid {
+ public:
+  CellGrid(const model::Model<D>& model, const model::Body& body, const Positions<D>& x) : model_(model), x_(x) {
+    double extent = 0.0;
+    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) extent += box(c).sizes().maxCoeff();
+    h_ = std::max(extent / std::max(body.num_cells, 1), 1e-300);
+    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) {
+      const auto b = box(c);
+      bounds_.extend(b);
+      const Eigen::Array<long, D, 1> lo = key_of(b.min()), hi = key_of(b.max());
+      for_each_key(lo, hi, [&](long k) { bins_[k].push_back(c); });
+    }
+  }
+
+  /// A cell containing `p` strictly inside (barycentric coordinates all
+  /// above a round-off tolerance, so that touching bodies pass), or -1.
+  [[nodiscard]] int cell_containing(const Vec<D>& p) const {
+    if (bounds_.isEmpty() || !bounds_.contains(p)) return -1;
+    const auto it = bins_.find(flat(key_of(p)));
+    if (it == bins_.end()) return -1;
+    for (int c : it->second)
+      if (strictly_inside(c, p)) return c;
+    return -1;
+  }
+
+ private:
+  using Box = Eigen::AlignedBox<double, D>;
+  [[nodiscard]] Box box(int c) const {
+    Box b;
+    for (int a = 0; a <= D; ++a) b.extend(x_.col(model_.cells(a, c)));
+    return b;
+  }
+  [[nodiscard]] Eigen::Array<long, D, 1> key_of(const Vec<D>& p) const {
+    return (p.array() / h_).floor().template cast<long>();
+  }
+  [[nodiscard]] static long flat(const Eigen::Array<long, D, 1>& k) {
+    long key = 0;
+    for (int i = 0; i < D; ++i) key = key * 2000003L + k[i];
+    return key;
+  }
+  template <class F>
+  void for_each_key(const Eigen::Array<long, D, 1>& lo, const Eigen::Array<long, D, 1>& hi, F&& f) const {
+    Eigen::Array<long, D, 1> k = lo;
+    for (;;) {
+      f(flat(k));
+      int i = 0;
+      while (i < D && k[i] == hi[i]) k[i] = lo[i], ++i;
+      if (i == D) return;
+      ++k[i];
+    }
+  }
+  [[nodiscard]] bool strictly_inside(int c, const Vec<D>& p) const {
+    Mat<D> J;
+    const Vec<D> x0 = x_.col(model_.cells(0, c));
+    for (int a = 0; a < D; ++a) J.col(a) = x_.col(model_.cells(a + 1, c)) - x0;
+    const Vec<D> lambda = J.partialPivLu().solve(p - x0);
+    constexpr double tol = 1e-8;
+    return lambda.minCoeff() > tol && 1.0 - lambda.sum() > tol;
+  }
+
+  const model::Model<D>& model_;
+  const Positions<D>& x_;
+  double h_ = 1.0;
+  Box bounds_;
+  std::unordered_map<long, std::vector<int>> bins_;
+};
+
+/// Throws InputError if a node of one body lies strictly inside a cell of
+/// another in the initial configuration x0 = X + u0 (bodies may touch).
+template <int D>
+void check_overlaps(const io::Scenario& scenario, const model::Model<D>& model, const Eigen::VectorXd& u0) {
+  const Positions<D> x = model.X + u0.reshaped(D, model.num_nodes());
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    const model::Body& host = model.bodies[b];
+    if (host.num_cells == 0) continue;
+    const CellGrid<D> grid(model, host, x);
+    for (std::size_t a = 0; a < model.bodies.size(); ++a) {
+      if (a == b) continue;
+      const model::Body& guest = model.bodies[a];
+      for (int n = guest.first_node; n < guest.first_node + guest.num_nodes; ++n) {
+        const int c = grid.cell_containing(x.col(n));
+        if (c < 0) continue;
+        throw InputError(
+            fmt::format("{}: bodies '{}' and '{}' overlap at t = 0: node {} of '{}' at ({}) is inside cell {} of '{}' "
+                        "(move them apart, e.g. with translate)",
+                        scenario.file.string(), guest.name, host.name, n - guest.first_node, guest.name,
+                        fmt::join(x.col(n).data(), x.col(n).data() + D, ", "), c - host.first_cell, host.name));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -108,6 +210,7 @@ Problem<D> setup(const io::Scenario& scenario) {
                                  {spec.initial_deformation, spec.velocity, spec.angular_velocity}, p.initial);
   }
   time::apply_prescribed(p.model.prescribed, 0.0, p.initial.u, &p.initial.v);
+  check_overlaps<D>(scenario, p.model, p.initial.u);
   return p;
 }
 

@@ -15,7 +15,9 @@ struct Problem {
 
 /// Builds the problem. Throws InputError "SCENARIO: body[i] 'name': …" for
 /// meshes that cannot be made or read, groups that do not exist, a degree
-/// of freedom prescribed twice, or inverted cells.
+/// of freedom prescribed twice, inverted cells, or bodies that overlap in
+/// the initial configuration (a node of one strictly inside a cell of
+/// another; touching is fine).
 template <int D>
 Problem<D> setup(const io::Scenario& scenario);
 

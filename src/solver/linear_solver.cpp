@@ -22,20 +22,35 @@ LinearSolver::LinearSolver() {
   lu_.umfpackControl()(UMFPACK_STRATEGY) = UMFPACK_STRATEGY_SYMMETRIC;
 }
 
+namespace {
+std::string umfpack_status(int code) {
+  switch (code) {
+    case UMFPACK_WARNING_singular_matrix: return "singular matrix";
+    case UMFPACK_ERROR_out_of_memory: return "out of memory";
+    case UMFPACK_ERROR_invalid_matrix: return "invalid matrix";
+    default: return fmt::format("UMFPACK status {}", code);
+  }
+}
+}  // namespace
+
 void LinearSolver::factorize(const SparseMatrix& A) {
   ScopedTimer timer(timings_ ? timings_->factorization : unused_);
   if (timings_) ++timings_->factorizations;
-  if (!same_pattern(A)) {
+  const bool analyse = !same_pattern(A);
+  if (analyse) {
+    A_ = A.cast<double>();  // copies the pattern into 64-bit indices
     if (timings_) ++timings_->analyses;
-    lu_.analyzePattern(A);
     outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
     inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+    lu_.analyzePattern(A_);
     ++analyses_;
+  } else {
+    std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), A_.valuePtr());
   }
-  lu_.factorize(A);
+  lu_.factorize(A_);
   if (lu_.info() != Eigen::Success)
-    throw SolverError(
-        fmt::format("the tangent matrix ({} equations) is singular: UMFPACK could not factorise it", A.rows()));
+    throw SolverError(fmt::format("UMFPACK could not factorise the tangent matrix ({} equations): {}", A.rows(),
+                                  umfpack_status(lu_.umfpackFactorizeReturncode())));
 }
 
 void LinearSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {

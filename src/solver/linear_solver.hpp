@@ -2,6 +2,8 @@
 /// Sparse direct solve of the (non-symmetric) Newton systems with UMFPACK.
 /// The symbolic analysis is kept and reused while the sparsity pattern does
 /// not change; only the numeric factorisation is redone per iteration.
+/// UMFPACK's 64-bit interface (umfpack_dl) is used: the 32-bit one fails on
+/// 3D problems of about 200k unknowns, whose LU factors pass 2^31 entries.
 #include <Eigen/UmfPackSupport>
 #include <vector>
 
@@ -24,8 +26,10 @@ class LinearSolver {
   void set_timings(Timings* timings) { timings_ = timings; }
 
  private:
+  using LongMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
   [[nodiscard]] bool same_pattern(const SparseMatrix& A) const;
-  Eigen::UmfPackLU<SparseMatrix> lu_;
+  LongMatrix A_;  ///< 64-bit-index copy of the matrix UMFPACK factorises (it keeps a reference)
+  Eigen::UmfPackLU<LongMatrix> lu_;
   std::vector<int> outer_, inner_;
   int analyses_ = 0;
   Timings* timings_ = nullptr;

@@ -27,6 +27,13 @@ struct NewtonSettings {
   int max_iterations = 20;
   double residual_tolerance = 1e-12;
   double increment_tolerance = 1e-13;
+  /// Modified Newton: keep the last factorization (across iterations and
+  /// steps) while each iteration reduces the residual by at least
+  /// `reuse_ratio`; refactorize otherwise. Convergence becomes linear but an
+  /// iteration costs a residual and a solve instead of a factorization.
+  /// Conservation is unaffected: it depends on the residual only.
+  bool reuse_factorization = false;
+  double reuse_ratio = 0.25;
 };
 
 struct NewtonReport {
@@ -39,6 +46,9 @@ struct NewtonReport {
 /// Iterates until |r| ≤ residual_tolerance·force_scale or, after a solve,
 /// |Δ|∞ ≤ increment_tolerance·length_scale. Does not throw on
 /// non-convergence: the report says so, and the caller decides.
-NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const NewtonSettings& settings);
+/// `reusable`: the solver's current factorization belongs to a matrix of the
+/// same structure as this problem's tangent (used with reuse_factorization).
+NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const NewtonSettings& settings,
+                          bool reusable = false);
 
 }  // namespace conserve::solver

@@ -47,7 +47,12 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     timings_.elimination += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, &elimination);
     problem.set_timings(&timings_);
-    const solver::NewtonReport report = solver::solve_newton(problem, solver_, newton_);
+    // A factorization of the plain system stays usable while no constraint
+    // is active; a reduced system's T changes from pass to pass.
+    const int factorizations = timings_.factorizations;
+    const solver::NewtonReport report =
+        solver::solve_newton(problem, solver_, newton_, elimination.empty() && plain_factorization_);
+    if (timings_.factorizations != factorizations) plain_factorization_ = elimination.empty();
     if (!report.converged) {
       std::string tail;  // the last residuals show stagnation or divergence
       for (std::size_t k = report.residual_norms.size() > 6 ? report.residual_norms.size() - 6 : 0;

@@ -27,6 +27,11 @@ class Integrator {
   /// in max_passes; the state is then left unchanged.
   solver::NewtonReport step(model::State& state, double dt);
 
+  /// Forgets the factorization kept for reuse (reuse_factorization): at a
+  /// change of Δt, and at checkpoints, so that a restarted run, which starts
+  /// without one, repeats the uninterrupted run bit for bit.
+  void drop_factorization() { plain_factorization_ = false; }
+
   /// What the active set did in the last step.
   [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
   [[nodiscard]] const solver::LinearSolver& linear_solver() const { return solver_; }
@@ -44,6 +49,7 @@ class Integrator {
   int max_passes_;
   contact::StepContactStats stats_;
   solver::Timings timings_;
+  bool plain_factorization_ = false;  ///< the solver holds a factorization of the unreduced system
 };
 
 /// Puts the prescribed values u(t) on `u` and the rates on `v` (if given).

@@ -210,7 +210,7 @@ TEST(Rigid, BallOnPlaneExamplePassesCheck) {
   const CliResult r = run_cli("check '" + example.string() + "'", scratch("ball_on_plane_check"));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("valid. 3D, 2 bodies"));
-  EXPECT_THAT(r.out, HasSubstr("(27 prescribed)"));  // the plane: 3 × 3 nodes × 3
+  EXPECT_THAT(r.out, HasSubstr("(45 prescribed)"));  // the plane: 5 × 3 nodes × 3
 }
 
 }  // namespace

@@ -92,3 +92,29 @@ TEST(StickContact, ContactIsMadeAndReleased) {
 
 }  // namespace
 }  // namespace conserve::time
+
+namespace conserve::time {
+namespace {
+
+TEST(StickContact, TwoFreeDiscsConserveLinearMomentum2d) {
+  test::ContactRun<2> run(test::glancing_spheres(2, "stick", 0.1));
+  const Diagnostics d0 = run.diagnostics();
+  double e = 0.0, l = 0.0, j = 0.0;
+  int activations = 0;
+  for (int n = 0; n < 200; ++n) {
+    run.step();
+    const Diagnostics d = run.diagnostics();
+    e = std::max(e, std::abs(d.total - d0.total) / d0.total);
+    l = std::max(l, (d.linear - d0.linear).norm() / d0.linear.norm());
+    j = std::max(j, std::abs(d.angular.z() - d0.angular.z()) / std::abs(d0.angular.z()));
+    activations += run.integrator->contact_stats().activations;
+  }
+  std::printf("[ measured ] stick, two free discs 2D, 200 steps: E drift %.2e, |L| drift %.2e, J change %.2e "
+              "[not conserved by stick], %d activations\n", e, l, j, activations);
+  EXPECT_GT(activations, 2);
+  EXPECT_LT(e, 1e-9);
+  EXPECT_LT(l, 1e-10);
+}
+
+}  // namespace
+}  // namespace conserve::time

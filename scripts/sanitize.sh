@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Builds the test suite with AddressSanitizer + UBSan (CMake preset
+# `sanitize`, in build/sanitize) and runs it; any sanitizer report fails the
+# test that triggered it (UBSan halts on the first error). Prints the time
+# taken. Usage: scripts/sanitize.sh [extra ctest arguments]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}"
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan-suppressions.txt}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
+start=$(date +%s)
+bash scripts/test.sh sanitize "$@"
+echo "sanitize: build and tests passed in $(( $(date +%s) - start )) s"

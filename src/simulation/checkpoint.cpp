@@ -1,0 +1,276 @@
+#include "simulation/checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+
+#include "core/error.hpp"
+
+namespace conserve::simulation {
+namespace {
+
+constexpr std::string_view kMagic = "conserve-checkpoint";
+constexpr std::uint32_t kVersion = 1;
+
+/// FNV-1a over raw bytes.
+class Hasher {
+ public:
+  void bytes(const void* data, std::size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 1099511628211ULL;
+  }
+  template <class T>
+  void value(const T& v) {
+    bytes(&v, sizeof v);
+  }
+  template <class M>
+  void matrix(const M& m) {
+    value(static_cast<std::int64_t>(m.size()));
+    bytes(m.data(), sizeof(typename M::Scalar) * static_cast<std::size_t>(m.size()));
+  }
+  template <class T>
+  void vector(const std::vector<T>& v) {
+    value(static_cast<std::int64_t>(v.size()));
+    bytes(v.data(), sizeof(T) * v.size());
+  }
+  [[nodiscard]] std::uint64_t get() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 14695981039346656037ULL;
+};
+
+/// Appends raw values to a byte buffer.
+class Writer {
+ public:
+  template <class T>
+  void value(const T& v) {
+    buffer_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void doubles(const double* data, std::size_t count) {
+    value(static_cast<std::uint64_t>(count));
+    buffer_.append(reinterpret_cast<const char*>(data), count * sizeof(double));
+  }
+  [[nodiscard]] const std::string& bytes() const { return buffer_; }
+
+ private:
+  std::string buffer_;
+};
+
+/// Reads raw values back; throws InputError naming the file when short.
+class Reader {
+ public:
+  Reader(std::string bytes, std::filesystem::path file) : bytes_(std::move(bytes)), file_(std::move(file)) {}
+  template <class T>
+  T value() {
+    T v{};
+    take(&v, sizeof v);
+    return v;
+  }
+  void doubles(double* data, std::size_t count, std::string_view what) {
+    const auto stored = value<std::uint64_t>();
+    if (stored != count)
+      fail(fmt::format("{} has {} values, this run has {} (not a checkpoint of this scenario)", what, stored, count));
+    take(data, count * sizeof(double));
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(fmt::format("{}: bad checkpoint: {}", file_.string(), what));
+  }
+  [[nodiscard]] bool at_end() const { return at_ == bytes_.size(); }
+
+ private:
+  void take(void* data, std::size_t size) {
+    if (bytes_.size() - at_ < size) fail("the file is truncated");
+    std::memcpy(data, bytes_.data() + at_, size);
+    at_ += size;
+  }
+  std::string bytes_;
+  std::filesystem::path file_;
+  std::size_t at_ = 0;
+};
+
+template <int D>
+void write_constraint(Writer& w, const contact::Constraint<D>& c) {
+  w.value(static_cast<std::int32_t>(c.pair));
+  w.value(static_cast<std::int32_t>(c.slave));
+  w.value(static_cast<std::int32_t>(c.facet));
+  for (int m : c.master) w.value(static_cast<std::int32_t>(m));
+  w.doubles(c.xi.data(), c.xi.size());
+  w.doubles(c.normal.data(), c.normal.size());
+  w.doubles(c.tangents.data(), c.tangents.size());
+  w.value(static_cast<std::int32_t>(c.kind));
+  w.value(c.activation_gap);
+}
+
+template <int D>
+contact::Constraint<D> read_constraint(Reader& r, int num_nodes) {
+  contact::Constraint<D> c;
+  c.pair = r.template value<std::int32_t>();
+  c.slave = r.template value<std::int32_t>();
+  c.facet = r.template value<std::int32_t>();
+  for (int& m : c.master) m = r.template value<std::int32_t>();
+  r.doubles(c.xi.data(), c.xi.size(), "a constraint's ξ");
+  r.doubles(c.normal.data(), c.normal.size(), "a constraint's normal");
+  r.doubles(c.tangents.data(), c.tangents.size(), "a constraint's tangents");
+  const auto kind = r.template value<std::int32_t>();
+  c.activation_gap = r.template value<double>();
+  bool nodes_ok = c.slave >= 0 && c.slave < num_nodes;
+  for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
+  if (!nodes_ok || (kind != 0 && kind != 1)) r.fail("a contact constraint names a node out of range");
+  c.kind = static_cast<contact::Kind>(kind);
+  return c;
+}
+
+void write_totals(Writer& w, const RunTotals& t) {
+  w.value(t.energy_drift);
+  w.doubles(t.linear_drift.data(), 3);
+  w.doubles(t.angular_drift.data(), 3);
+  w.value(t.newton_iterations);
+  w.value(static_cast<std::int32_t>(t.max_newton_iterations));
+  w.value(static_cast<std::int32_t>(t.activations));
+  w.value(static_cast<std::int32_t>(t.releases));
+  w.value(t.max_activation_gap);
+}
+
+RunTotals read_totals(Reader& r) {
+  RunTotals t;
+  t.energy_drift = r.value<double>();
+  r.doubles(t.linear_drift.data(), 3, "the linear drift");
+  r.doubles(t.angular_drift.data(), 3, "the angular drift");
+  t.newton_iterations = r.value<double>();
+  t.max_newton_iterations = r.value<std::int32_t>();
+  t.activations = r.value<std::int32_t>();
+  t.releases = r.value<std::int32_t>();
+  t.max_activation_gap = r.value<double>();
+  return t;
+}
+
+std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw InputError(
+        fmt::format("{}: cannot open the checkpoint (expected a file written by conserve run)", file.string()));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+template <int D>
+std::uint64_t scenario_hash(const io::Scenario& sc, const model::Model<D>& model) {
+  Hasher h;
+  h.value(D);
+  h.matrix(model.X);
+  h.matrix(model.cells);
+  h.vector(model.cell_body);
+  for (const auto& b : model.bodies) {
+    h.bytes(b.name.data(), b.name.size());
+    h.value(b.lame.lambda);
+    h.value(b.lame.mu);
+    h.value(b.density);
+  }
+  h.matrix(model.gravity);
+  h.vector(model.prescribed.dofs);
+  h.vector(model.prescribed.value);
+  h.vector(model.prescribed.rate);
+  h.value(sc.time.step);
+  h.value(static_cast<int>(sc.time.scheme));
+  h.value(static_cast<int>(sc.time.mass));
+  h.value(sc.newton.residual_tolerance);
+  h.value(sc.newton.increment_tolerance);
+  for (const auto& c : sc.contacts) {
+    for (const auto* s : {&c.slave_body, &c.slave_group, &c.master_body, &c.master_group}) {
+      h.bytes(s->data(), s->size());
+      h.value('\0');
+    }
+    h.value(static_cast<int>(c.kind));
+    h.value(c.depth_factor);
+  }
+  for (const auto& b : sc.bodies) {  // initial conditions
+    h.matrix(b.velocity);
+    h.matrix(b.angular_velocity);
+    h.matrix(b.initial_deformation);
+  }
+  return h.get();
+}
+
+std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step) {
+  return output_directory / "checkpoints" / fmt::format("ckpt_{:06d}.bin", step);
+}
+
+template <int D>
+void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c) {
+  Writer w;
+  w.value(kMagic.size());
+  for (char ch : kMagic) w.value(ch);
+  w.value(kVersion);
+  w.value(static_cast<std::int32_t>(D));
+  w.value(c.scenario_hash);
+  w.value(static_cast<std::int32_t>(c.state.step));
+  w.value(c.state.time);
+  w.doubles(c.state.u.data(), c.state.u.size());
+  w.doubles(c.state.v.data(), c.state.v.size());
+  w.value(c.control.dt);
+  w.value(static_cast<std::int32_t>(c.control.good_steps));
+  w.value(static_cast<std::int32_t>(c.control.cutbacks));
+  write_totals(w, c.totals);
+  w.value(static_cast<std::uint64_t>(c.constraints.size()));
+  for (const auto& constraint : c.constraints) write_constraint<D>(w, constraint);
+
+  std::error_code ec;
+  std::filesystem::create_directories(file.parent_path(), ec);
+  if (ec) throw Error(fmt::format("cannot create {}: {}", file.parent_path().string(), ec.message()));
+  auto temporary = file;
+  temporary += ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
+    if (!out.flush()) throw Error(fmt::format("{}: write failed", temporary.string()));
+  }
+  std::filesystem::rename(temporary, file, ec);
+  if (ec) throw Error(fmt::format("{}: cannot rename into place: {}", file.string(), ec.message()));
+}
+
+template <int D>
+Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t expected_hash,
+                              const model::Model<D>& model) {
+  Reader r(slurp(file), file);
+  std::string magic(r.value<std::size_t>() == kMagic.size() ? kMagic.size() : 0, ' ');
+  for (char& ch : magic) ch = r.value<char>();
+  if (magic != kMagic) r.fail("not a conserve checkpoint");
+  if (r.value<std::uint32_t>() != kVersion) r.fail("written by another version of conserve");
+  if (r.value<std::int32_t>() != D) r.fail(fmt::format("not of a {}D scenario", D));
+  Checkpoint<D> c;
+  c.scenario_hash = r.value<std::uint64_t>();
+  if (c.scenario_hash != expected_hash)
+    r.fail("written by another scenario (model, time step, solver or contact settings differ)");
+  c.state.step = r.value<std::int32_t>();
+  c.state.time = r.value<double>();
+  c.state.u.resize(model.num_dofs());
+  c.state.v.resize(model.num_dofs());
+  r.doubles(c.state.u.data(), c.state.u.size(), "the displacement");
+  r.doubles(c.state.v.data(), c.state.v.size(), "the velocity");
+  c.control.dt = r.value<double>();
+  c.control.good_steps = r.value<std::int32_t>();
+  c.control.cutbacks = r.value<std::int32_t>();
+  c.totals = read_totals(r);
+  const auto count = r.value<std::uint64_t>();
+  if (count > static_cast<std::uint64_t>(model.num_nodes())) r.fail("more constraints than nodes");
+  for (std::uint64_t i = 0; i < count; ++i) c.constraints.push_back(read_constraint<D>(r, model.num_nodes()));
+  if (!r.at_end()) r.fail("trailing bytes after the constraints");
+  if (c.state.step < 0 || !(c.control.dt > 0.0)) r.fail("bad step or step size");
+  return c;
+}
+
+template std::uint64_t scenario_hash<2>(const io::Scenario&, const model::Model<2>&);
+template std::uint64_t scenario_hash<3>(const io::Scenario&, const model::Model<3>&);
+template void write_checkpoint<2>(const std::filesystem::path&, const Checkpoint<2>&);
+template void write_checkpoint<3>(const std::filesystem::path&, const Checkpoint<3>&);
+template Checkpoint<2> read_checkpoint<2>(const std::filesystem::path&, std::uint64_t, const model::Model<2>&);
+template Checkpoint<3> read_checkpoint<3>(const std::filesystem::path&, std::uint64_t, const model::Model<3>&);
+
+}  // namespace conserve::simulation

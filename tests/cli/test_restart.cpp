@@ -1,0 +1,155 @@
+// Checkpoint and restart (issue 7): a run stopped early and continued from
+// a checkpoint writes the same history, byte for byte, as the run that was
+// never interrupted; on a contact scenario, so that the active set is part
+// of what the checkpoint must carry.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "support/cli.hpp"
+
+namespace conserve::test {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+/// tests/time/contact_scenarios.hpp glancing_spheres(2, "frictionless",
+/// 0.05): contact from step 8 to 54, releases at 47, 50 and 55.
+const std::string kGlancingDiscs = R"(dimension = 2
+[time]
+step = 5e-4
+end = 0.05
+[output]
+vtu_every = 20
+checkpoint_every = 10
+[[body]]
+name = "small"
+translate = [-0.24, 0.09]
+velocity = [2.0, 0.0]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.1
+size = 0.02
+[[body]]
+name = "big"
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.15
+size = 0.03
+[[contact]]
+slave = "small"
+master = "big"
+kind = "frictionless"
+)";
+
+/// tests/time/contact_scenarios.hpp ball_on_plane("stick", 0.12): the
+/// first slave sticks at step 64, a second at 89.
+const std::string kBallOnPlane = R"(dimension = 3
+[time]
+step = 1e-3
+end = 0.12
+[output]
+vtu_every = 0
+checkpoint_every = 25
+[loads]
+gravity = [0.0, 0.0, -9.81]
+[[body]]
+name = "ball"
+translate = [0.0, 0.0, 0.42]
+velocity = [2.0, 0.0, 0.0]
+[body.material]
+young = 4.0e6
+poisson = 0.45
+density = 1000.0
+[body.mesh]
+generator = "spherical_shell"
+inner_radius = 0.2
+outer_radius = 0.4
+size = 0.15
+[[body]]
+name = "plane"
+[body.material]
+young = 4.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "plate"
+lx = 3.0
+ly = 3.0
+thickness = 0.2
+size = 1.0
+[[boundary]]
+body = "plane"
+group = "all"
+[[contact]]
+slave = "ball:outer"
+master = "plane:top"
+kind = "stick"
+)";
+
+/// Runs `scenario` once uninterrupted and once stopped after `stop` steps
+/// and restarted from the checkpoint of step `from`; both histories and
+/// steps.csv must be identical.
+void expect_identical_after_restart(const std::string& name, const std::string& scenario, int stop, int from) {
+  const auto dir = scratch(name);
+  write_file(dir / "s.toml", scenario);
+  const CliResult full = run_cli("run s.toml -q -o full", dir);
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  const CliResult part = run_cli("run s.toml -q -o part --steps " + std::to_string(stop), dir);
+  ASSERT_EQ(part.exit_code, 0) << part.err;
+  const std::string ckpt =
+      "part/checkpoints/ckpt_" + std::string(6 - std::to_string(from).size(), '0') + std::to_string(from) + ".bin";
+  ASSERT_TRUE(fs::exists(dir / ckpt)) << ckpt;
+  EXPECT_NE(slurp(dir / "full/history.csv"), slurp(dir / "part/history.csv"));
+  const CliResult rest = run_cli("run s.toml -q -o part --restart " + ckpt, dir);
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
+  EXPECT_TRUE(slurp(dir / "full/history.csv") == slurp(dir / "part/history.csv")) << "history.csv differs";
+  EXPECT_TRUE(slurp(dir / "full/steps.csv") == slurp(dir / "part/steps.csv")) << "steps.csv differs";
+  for (const auto& f : fs::recursive_directory_iterator(dir / "part"))
+    EXPECT_NE(f.path().extension(), ".tmp") << f.path();
+}
+
+TEST(Restart, FrictionlessContactHistoryIsBitIdentical) {
+  // Checkpoint 30 has three slaves in contact, released after the restart.
+  expect_identical_after_restart("restart_discs", kGlancingDiscs, 35, 30);
+}
+
+TEST(Restart, StickContactHistoryIsBitIdentical) {
+  // Checkpoint 75 has one stuck slave; another sticks after the restart.
+  expect_identical_after_restart("restart_ball", kBallOnPlane, 80, 75);
+}
+
+TEST(Restart, RefusesACheckpointOfAnotherScenario) {
+  const auto dir = scratch("restart_other");
+  write_file(dir / "s.toml", kGlancingDiscs);
+  std::string other = kGlancingDiscs;
+  other.replace(other.find("young = 1.0e6"), 13, "young = 2.0e6");
+  write_file(dir / "other.toml", other);
+  ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10", dir).exit_code, 0);
+  const CliResult r = run_cli("run other.toml -q -o b --restart a/checkpoints/ckpt_000010.bin", dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("ckpt_000010.bin: bad checkpoint: written by another scenario"));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(Restart, RefusesATruncatedCheckpoint) {
+  const auto dir = scratch("restart_truncated");
+  write_file(dir / "s.toml", kGlancingDiscs);
+  ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10", dir).exit_code, 0);
+  const std::string bytes = slurp(dir / "a/checkpoints/ckpt_000010.bin");
+  write_file(dir / "cut.bin", bytes.substr(0, bytes.size() / 2));
+  const CliResult r = run_cli("run s.toml -q -o a --restart cut.bin", dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("cut.bin: bad checkpoint"));
+}
+
+}  // namespace
+}  // namespace conserve::test

@@ -1,0 +1,107 @@
+#pragma once
+/// Runs a row of bars (validation_scenarios.hpp) and measures what 1D wave
+/// theory predicts: contact duration 2L/c, exchange of velocities, interface
+/// stress ρ c v0 / 2.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "support/contact_run.hpp"
+#include "validation_scenarios.hpp"
+
+namespace conserve::test {
+
+/// True when the long variants should run (CONSERVE_LONG_TESTS=1).
+inline bool long_tests() {
+  const char* v = std::getenv("CONSERVE_LONG_TESTS");
+  return v != nullptr && std::string(v) == "1";
+}
+
+/// Per step: time at the end of the step, L_x of every bar, Σ f_N, active count.
+struct BarHistory {
+  std::vector<double> time, force;
+  std::vector<std::vector<double>> momentum;  ///< [step][bar]
+  std::vector<int> active;
+  int activations = 0, releases = 0;
+  double max_passes = 0;
+};
+
+template <int D>
+BarHistory run_bars(const Bars& bars) {
+  ContactRun<D> run(bars_scenario(bars));
+  BarHistory h;
+  const int steps = static_cast<int>(std::lround(bars.end / bars.step));
+  for (int n = 0; n < steps; ++n) {
+    run.step();
+    const auto& stats = run.integrator->contact_stats();
+    h.activations += stats.activations;
+    h.releases += stats.releases;
+    h.max_passes = std::max<double>(h.max_passes, stats.passes);
+    double f = 0.0;
+    for (double fn : run.contacts->normal_forces()) f += fn;
+    std::vector<double> l;
+    for (const Vec3& b : run.diagnostics().body_linear) l.push_back(b.x());
+    h.time.push_back(run.state.time);
+    h.force.push_back(f);
+    h.momentum.push_back(l);
+    h.active.push_back(static_cast<int>(run.contacts->constraints().size()));
+  }
+  return h;
+}
+
+/// What one impact between bar k and bar k+1 looked like, from the momentum
+/// that bar k+1 received (robust against chatter: the active set flickers,
+/// the momentum transfer does not).
+struct Impact {
+  double start = 0.0, end = 0.0;  ///< first and last step that moved momentum into bar k+1 [s]
+  double momentum_stress = 0.0;   ///< plateau of (ΔL/Δt)/A over the middle half [Pa]
+  double force_stress = 0.0;      ///< plateau of Σ f_N / A over the middle half [Pa]
+  [[nodiscard]] double duration() const { return end - start; }
+};
+
+/// The first impact received by bar `k` (k ≥ 1) from the left: from the
+/// first to the last step that moved momentum into it, before it starts to
+/// pass momentum on (a step without transfer inside the contact, when
+/// chatter released every slave, does not end it).
+inline Impact first_impact(const BarHistory& h, const Bars& bars, int k) {
+  const double threshold = 1e-6 * bars.mass() * bars.v0;
+  Impact imp;
+  int first = -1, last = -1;
+  for (std::size_t n = 1; n < h.time.size(); ++n) {
+    const double dl = h.momentum[n][k] - h.momentum[n - 1][k];
+    if (first >= 0 && dl < -threshold) break;  // bar k hits bar k+1
+    if (dl > threshold) {
+      if (first < 0) first = static_cast<int>(n);
+      last = static_cast<int>(n);
+    }
+  }
+  if (first < 0) return imp;
+  imp.start = h.time[first] - bars.step;
+  imp.end = h.time[last];
+  const int lo = first + (last - first) / 4, hi = last - (last - first) / 4;
+  for (int n = lo; n <= hi; ++n) {
+    imp.momentum_stress += (h.momentum[n][k] - h.momentum[n - 1][k]) / bars.step / bars.area();
+    imp.force_stress += h.force[n] / bars.area();
+  }
+  imp.momentum_stress /= (hi - lo + 1);
+  imp.force_stress /= (hi - lo + 1);
+  return imp;
+}
+
+/// Steps during which some constraint was active, from the first to the last.
+inline double active_span(const BarHistory& h, double step) {
+  int first = -1, last = -1;
+  for (std::size_t n = 0; n < h.active.size(); ++n)
+    if (h.active[n] > 0) {
+      if (first < 0) first = static_cast<int>(n);
+      last = static_cast<int>(n);
+    }
+  return first < 0 ? 0.0 : h.time[last] - h.time[first] + step;
+}
+
+}  // namespace conserve::test
