@@ -4,7 +4,8 @@
 #
 # Usage: bash bench/run_paper.sh [--quick] [--no-build] [--no-plots]
 #                                [--sizes "10000 30000 100000 200000"]
-#                                [--sweep-steps N] [--mem-limit-gb G]
+#                                [--sweep-steps N] [--mem-limit-gb G] [--sweep-only]
+#   --sweep-only  keep the work folder's paper runs and redo only the sweep
 #
 #   (default)   the three paper examples in full (examples/cylinders/
 #               three_cylinders.toml 600 steps, two_hollow_cylinders.toml
@@ -40,11 +41,13 @@ plots=1
 sizes=""
 sweep_steps=2
 mem_gb=""
+sweep_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
     --no-build) build=0 ;;
     --no-plots) plots=0 ;;
+    --sweep-only) sweep_only=1 ;;
     --sizes) sizes="$2"; shift ;;
     --sweep-steps) sweep_steps="$2"; shift ;;
     --mem-limit-gb) mem_gb="$2"; shift ;;
@@ -79,11 +82,16 @@ bin="${CONSERVE:-build/release/conserve}"
 [ -x /usr/bin/time ] || { echo "run_paper.sh: /usr/bin/time missing (bash scripts/install-deps.sh)" >&2; exit 1; }
 
 work="${BENCH_WORK:-out/bench/$mode}"
-rm -rf "$work"
-mkdir -p "$work/scenarios" "$work/runs" bench/results
-cp "$bin" "$work/conserve"
 manifest="$work/manifest.tsv"
-: > "$manifest"
+if [ "$sweep_only" -eq 1 ] && [ -f "$manifest" ]; then
+  grep -v "	sweep	" "$manifest" > "$manifest.tmp" || true
+  mv "$manifest.tmp" "$manifest"
+else
+  rm -rf "$work"
+  mkdir -p "$work/scenarios" "$work/runs" bench/results
+  : > "$manifest"
+fi
+cp "$bin" "$work/conserve"
 
 if [ -z "$mem_gb" ]; then
   mem_kb=$(awk '/MemTotal/ {print int($2 * 0.8)}' /proc/meminfo)
@@ -112,9 +120,11 @@ run() {
 echo "run_paper.sh ($mode): binary $bin, work folder $work, memory limit $((mem_kb / 1024 / 1024)) GB per run"
 
 # --- 1. the paper's three examples, at the examples' resolution ---------------
-run three_cylinders paper examples/cylinders/three_cylinders.toml "$paper_steps"
-run two_hollow_cylinders paper examples/cylinders/two_hollow_cylinders.toml "$paper_steps"
-run ball_on_plane paper examples/ball/ball_on_plane.toml "$ball_steps"
+if [ "$sweep_only" -eq 0 ]; then
+  run three_cylinders paper examples/cylinders/three_cylinders.toml "$paper_steps"
+  run two_hollow_cylinders paper examples/cylinders/two_hollow_cylinders.toml "$paper_steps"
+  run ball_on_plane paper examples/ball/ball_on_plane.toml "$ball_steps"
+fi
 
 # --- 2. mesh-size sweep of the ball -------------------------------------------
 # The ball's `size` for N unknowns, fitted to `conserve check` counts of this
@@ -124,7 +134,7 @@ run ball_on_plane paper examples/ball/ball_on_plane.toml "$ball_steps"
 for n in $sizes; do
   size=$(awk -v n="$n" 'BEGIN {printf "%.5f", 0.0182 * (102291 / n) ^ (1 / 2.67)}')
   scen="$work/scenarios/ball_${n}.toml"
-  sed -e "s/^size = 0\.075\$/size = $size/" -e 's/^vtu_every = .*/vtu_every = 0/' \
+  sed -e "0,/^size = .*/s//size = $size/" -e 's/^vtu_every = .*/vtu_every = 0/' \
       -e "s|^directory = .*|directory = \"$work/runs/ball_$n\"|" examples/ball/ball_on_plane.toml > "$scen"
   grep -q "^size = $size\$" "$scen" || { echo "run_paper.sh: could not set the ball's size in $scen" >&2; exit 1; }
   run "ball_${n}" sweep "$scen" "$sweep_steps"
