@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "support/cli.hpp"
+#include "support/contact_scenarios.hpp"
 
 namespace conserve::test {
 namespace {
@@ -13,87 +14,15 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-/// tests/time/contact_scenarios.hpp glancing_spheres(2, "frictionless",
-/// 0.05): contact from step 8 to 54, releases at 47, 50 and 55.
-const std::string kGlancingDiscs = R"(dimension = 2
-[time]
-step = 5e-4
-end = 0.05
-[output]
-vtu_every = 20
-checkpoint_every = 10
-[[body]]
-name = "small"
-translate = [-0.24, 0.09]
-velocity = [2.0, 0.0]
-[body.material]
-young = 1.0e6
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "disc"
-radius = 0.1
-size = 0.02
-[[body]]
-name = "big"
-[body.material]
-young = 1.0e6
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "disc"
-radius = 0.15
-size = 0.03
-[[contact]]
-slave = "small"
-master = "big"
-kind = "frictionless"
-)";
+/// glancing_spheres(2, "frictionless", 0.05): contact from step 8 to 54,
+/// releases at 47, 50 and 55; output and checkpoints added.
+const std::string kGlancingDiscs =
+    glancing_spheres(2, "frictionless", 0.05) + "[output]\nvtu_every = 20\ncheckpoint_every = 10\n";
 
-/// tests/time/contact_scenarios.hpp ball_on_plane("stick", 0.12): the
-/// first slave sticks at step 64, a second at 89.
-const std::string kBallOnPlane = R"(dimension = 3
-[time]
-step = 1e-3
-end = 0.12
-[output]
-vtu_every = 0
-checkpoint_every = 25
-[loads]
-gravity = [0.0, 0.0, -9.81]
-[[body]]
-name = "ball"
-translate = [0.0, 0.0, 0.42]
-velocity = [2.0, 0.0, 0.0]
-[body.material]
-young = 4.0e6
-poisson = 0.45
-density = 1000.0
-[body.mesh]
-generator = "spherical_shell"
-inner_radius = 0.2
-outer_radius = 0.4
-size = 0.15
-[[body]]
-name = "plane"
-[body.material]
-young = 4.0e6
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "plate"
-lx = 3.0
-ly = 3.0
-thickness = 0.2
-size = 1.0
-[[boundary]]
-body = "plane"
-group = "all"
-[[contact]]
-slave = "ball:outer"
-master = "plane:top"
-kind = "stick"
-)";
+/// ball_on_plane("stick", 0.12): the first slave sticks at step 64, a
+/// second at 89.
+const std::string kBallOnPlane =
+    ball_on_plane("stick", 0.12) + "[output]\nvtu_every = 0\ncheckpoint_every = 25\n";
 
 /// Runs `scenario` once uninterrupted and once stopped after `stop` steps
 /// and restarted from the checkpoint of step `from`; both histories and

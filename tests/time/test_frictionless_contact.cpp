@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "contact_checks.hpp"
-#include "contact_scenarios.hpp"
+#include "support/contact_scenarios.hpp"
 
 namespace conserve::time {
 namespace {

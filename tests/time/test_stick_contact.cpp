@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "contact_scenarios.hpp"
+#include "support/contact_scenarios.hpp"
 #include "contact_checks.hpp"
 
 namespace conserve::time {
