@@ -1,6 +1,8 @@
 /// VTK XML UnstructuredGrid (binary, base64 inline, UInt64 headers) and PVD.
 #include "io/vtu_writer.hpp"
 
+#include <fstream>
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -117,6 +119,18 @@ void write_vtu(const std::filesystem::path& file, const VtuGrid& grid) {
 }
 
 PvdWriter::PvdWriter(std::filesystem::path file) : file_(std::move(file)) {}
+
+void PvdWriter::resume(double time) {
+  std::ifstream in(file_);
+  const std::string timestep = "timestep=\"", file = "file=\"";
+  for (std::string line; std::getline(in, line);) {
+    const auto t = line.find(timestep), f = line.find(file);
+    if (t == std::string::npos || f == std::string::npos) continue;
+    const double entry_time = std::stod(line.substr(t + timestep.size()));
+    const auto begin = f + file.size();
+    if (entry_time <= time) entries_.emplace_back(entry_time, line.substr(begin, line.find('"', begin) - begin));
+  }
+}
 
 void PvdWriter::add(double time, const std::string& relative_file) {
   entries_.emplace_back(time, relative_file);

@@ -34,6 +34,10 @@ class PvdWriter {
   explicit PvdWriter(std::filesystem::path file);
   /// Adds a dataset (path relative to the .pvd's folder) at `time` [s].
   void add(double time, const std::string& relative_file);
+  /// Continues a collection this writer wrote before (a restart): keeps the
+  /// file's entries up to `time` [s]; the next add() rewrites the file.
+  /// Does nothing if the file does not exist.
+  void resume(double time);
 
  private:
   std::filesystem::path file_;

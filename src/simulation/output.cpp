@@ -37,7 +37,8 @@ std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) 
 
 template <int D>
 OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory,
-                              int vtu_every, const contact::ActiveSet<D>* contacts, bool contact_state)
+                              int vtu_every, const contact::ActiveSet<D>* contacts, bool contact_state,
+                              std::optional<double> resume_time)
     : assembler_(assembler),
       contacts_(contacts),
       contact_state_(contact_state && contacts),
@@ -45,6 +46,7 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
       vtu_every_(vtu_every),
       history_(directory / "history.csv", history_columns(body_names(assembler.model()))) {
   if (vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
+  if (pvd_ && resume_time) pvd_->resume(*resume_time);
 }
 
 template <int D>

@@ -3,6 +3,7 @@
 /// PVD time series (points are the current configuration).
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "assembly/assembler.hpp"
 #include "contact/active_set.hpp"
@@ -29,12 +30,20 @@ class OutputWriter {
   /// Creates `directory` (and vtu/ in it when vtu_every > 0). `contacts`
   /// (may be null) adds the contact columns' values and the VTU field
   /// contact_normal_force.
+  /// `resume_time`: a restart at that time [s] keeps solution.pvd's
+  /// earlier entries.
   OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory, int vtu_every,
-               const contact::ActiveSet<D>* contacts = nullptr, bool contact_state = false);
+               const contact::ActiveSet<D>* contacts = nullptr, bool contact_state = false,
+               std::optional<double> resume_time = std::nullopt);
 
   /// Appends the history row of `state` (step: what the step that produced
   /// it did; empty for the initial state) and writes a VTU if due.
   void write(const model::State& state, const time::Diagnostics& d, const StepRecord& step, bool last);
+  /// Writes a VTU of `state` (if VTU output is on) without a history row,
+  /// e.g. the last converged state of a run that stops.
+  void write_snapshot(const model::State& state) {
+    if (pvd_) write_vtu(state);
+  }
 
  private:
   void write_vtu(const model::State& state);

@@ -155,7 +155,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     io::resume_history(dir / "steps.csv", state.step);
   }
   OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contacts.empty() ? nullptr : &contacts,
-                         sc.output.contact_state);
+                         sc.output.contact_state,
+                         options.restart ? std::optional<double>(state.time) : std::nullopt);
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
   const int max_steps = options.max_steps.value_or(1 << 30);
   if (!options.restart) {
@@ -182,6 +183,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
       record = advance<D>(stepper, state, dt, failures);
     } catch (const FloorReached& f) {
       progress.finish();
+      output.write_snapshot(state);
       const auto file = save(state, contacts.constraints());
       throw SolverError(fmt::format(
           "step {} failed even with Δt = {:.6g} s ([time].min_step = {:.6g} s): {}; the last converged state "

@@ -83,7 +83,7 @@ min_step = 1.25e-4
 [newton]
 max_iterations = 1
 [output]
-vtu_every = 0
+vtu_every = 5
 [[body]]
 name = "small"
 translate = [-0.24, 0.09]
@@ -126,6 +126,9 @@ TEST(Cutback, StopsCleanlyAtTheFloorWithTheStateSaved) {
   EXPECT_EQ(h.column("step").back(), 8.0);
   EXPECT_EQ(io::read_history(dir / "out/steps.csv").rows.size(), 9u);
   ASSERT_TRUE(fs::exists(dir / "out/checkpoints/ckpt_000008.bin"));
+  // the last converged state is also in the ParaView output (vtu_every = 5: step 8 only by the final snapshot)
+  EXPECT_TRUE(fs::exists(dir / "out/vtu/step_000008.vtu"));
+  EXPECT_THAT(slurp(dir / "out/solution.pvd"), HasSubstr("vtu/step_000008.vtu"));
   for (const auto& f : fs::recursive_directory_iterator(dir / "out"))
     EXPECT_NE(f.path().extension(), ".tmp") << f.path();
 
