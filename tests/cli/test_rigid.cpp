@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/history_writer.hpp"
+#include "support/base64.hpp"
 #include "support/cli.hpp"
 
 namespace conserve::test {
@@ -77,21 +78,6 @@ generator = "segment"
 lx = 2.0
 size = 0.5
 )";
-
-std::vector<unsigned char> base64_decode(const std::string& text) {
-  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::vector<unsigned char> bytes;
-  std::uint32_t bits = 0;
-  int count = 0;
-  for (char c : text) {
-    if (c == '=') break;
-    const auto value = alphabet.find(c);
-    if (value == std::string::npos) continue;
-    bits = (bits << 6) | static_cast<std::uint32_t>(value);
-    if ((count += 6) >= 8) bytes.push_back(static_cast<unsigned char>(bits >> (count -= 8)));
-  }
-  return bytes;
-}
 
 /// The Float64 point field `name` of a VTU file (3 values per point).
 std::vector<double> point_field(const std::string& xml, const std::string& name) {

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "io/vtu_writer.hpp"
+#include "support/base64.hpp"
 
 namespace conserve::io {
 namespace {
@@ -32,20 +33,7 @@ std::string read_text(const fs::path& file) {
   return text.str();
 }
 
-std::vector<unsigned char> base64_decode(const std::string& text) {
-  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::vector<unsigned char> bytes;
-  std::uint32_t bits = 0;
-  int count = 0;
-  for (char c : text) {
-    if (c == '=') break;
-    const auto value = alphabet.find(c);
-    if (value == std::string::npos) continue;
-    bits = (bits << 6) | static_cast<std::uint32_t>(value);
-    if ((count += 6) >= 8) bytes.push_back(static_cast<unsigned char>(bits >> (count -= 8)));
-  }
-  return bytes;
-}
+using test::base64_decode;
 
 /// The base64 payload of the first DataArray after `anchor` (an attribute
 /// such as `Name="u"` or the tag `<Points>`), decoded and checked against
