@@ -64,6 +64,7 @@ OutputSpec parse_output(const Section& s) {
   output.progress_every = s.integer("progress_every");
   output.contact_state = s.boolean("contact_state");
   output.checkpoint_every = s.integer("checkpoint_every");
+  output.checkpoint_keep = s.integer("checkpoint_keep");
   return output;
 }
 

@@ -110,6 +110,7 @@ struct OutputSpec {
   int progress_every = 0;      ///< 0: a progress line about once a second
   bool contact_state = false;  ///< also write the slaves' contact state (gap, normal, facet) with each VTU
   int checkpoint_every = 0;    ///< write checkpoints/ckpt_NNNNNN.bin every N steps (0: none)
+  int checkpoint_keep = 3;     ///< keep the newest N periodic checkpoints (0: all)
 };
 
 struct Scenario {

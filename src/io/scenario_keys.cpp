@@ -141,6 +141,12 @@ SectionSpec output_section() {
                .min = at_least(0),
                .doc = "write a checkpoint every N steps to checkpoints/ckpt_NNNNNN.bin (0: none), to continue "
                       "with `conserve run SCENARIO --restart FILE`"},
+              {.name = "checkpoint_keep",
+               .type = KeyType::integer,
+               .default_value = "3",
+               .min = at_least(0),
+               .doc = "keep only the newest N periodic checkpoints, deleting older ones as new ones are written "
+                      "(0: keep all)"},
           }};
 }
 

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstring>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -200,6 +202,27 @@ std::uint64_t scenario_hash(const io::Scenario& sc, const model::Model<D>& model
 
 std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step) {
   return output_directory / "checkpoints" / fmt::format("ckpt_{:06d}.bin", step);
+}
+
+int prune_checkpoints(const std::filesystem::path& output_directory, int current_step, int keep) {
+  if (keep <= 0) return 0;
+  const auto folder = output_directory / "checkpoints";
+  std::vector<int> older;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    // "ckpt_" + six to nine digits + ".bin"
+    if (name.size() < 15 || name.size() > 18 || !name.starts_with("ckpt_") || !name.ends_with(".bin")) continue;
+    const std::string digits = name.substr(5, name.size() - 9);
+    if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
+    const long step = std::stol(digits);
+    if (step < current_step) older.push_back(static_cast<int>(step));
+  }
+  std::sort(older.begin(), older.end(), std::greater<>());
+  int deleted = 0;
+  for (std::size_t i = static_cast<std::size_t>(keep - 1); i < older.size(); ++i)
+    deleted += std::filesystem::remove(checkpoint_path(output_directory, older[i]), ec) ? 1 : 0;
+  return deleted;
 }
 
 template <int D>

@@ -56,6 +56,13 @@ std::uint64_t scenario_hash(const io::Scenario& scenario, const model::Model<D>&
 /// "DIR/checkpoints/ckpt_NNNNNN.bin".
 std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step);
 
+/// Deletes the checkpoints DIR/checkpoints/ckpt_NNNNNN.bin of steps below
+/// `current_step` except the newest `keep` - 1 of them, so that with the one
+/// of `current_step` `keep` remain. Checkpoints of later steps (left by an
+/// earlier, longer run) and other files are not touched. keep = 0: none is
+/// deleted. Returns how many were deleted.
+int prune_checkpoints(const std::filesystem::path& output_directory, int current_step, int keep);
+
 /// Writes the checkpoint atomically (temporary file, then rename), creating
 /// the folder. Throws Error.
 template <int D>

@@ -5,9 +5,8 @@
 
 namespace conserve::simulation {
 
-ProgressLine::ProgressLine(std::FILE* out, int total_steps, int every)
+ProgressLine::ProgressLine(std::FILE* out, int every)
     : out_(out),
-      total_(total_steps),
       every_(every),
       tty_(out && isatty(fileno(out))),
       start_(std::chrono::steady_clock::now()),
@@ -17,16 +16,18 @@ double ProgressLine::elapsed() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-void ProgressLine::update(int step, double time, double energy_drift, int newton_iterations) {
+void ProgressLine::update(const ProgressPoint& p) {
   if (!out_) return;
   const auto now = std::chrono::steady_clock::now();
-  const bool due = every_ > 0 ? step % every_ == 0 : now - last_ >= std::chrono::seconds(1);
-  if (!due && step != total_) return;
+  const bool due = every_ > 0 ? p.step % every_ == 0 : now - last_ >= std::chrono::seconds(1);
+  if (!due && !p.last) return;
   last_ = now;
   const double t = elapsed();
-  const double eta = step > 0 ? t * (total_ - step) / step : 0.0;
-  fmt::print(out_, "{}step {}/{}  t = {:.4g} s  |ΔE|/E = {:.2e}  Newton {}  elapsed {:.1f} s  ETA {:.1f} s{}",
-             tty_ ? "\r" : "", step, total_, time, energy_drift, newton_iterations, t, eta, tty_ ? "  " : "\n");
+  const double eta = p.last ? 0.0 : (p.fraction > 0.0 ? t * (1.0 - p.fraction) / p.fraction : 0.0);
+  fmt::print(out_,
+             "{}step {}/{}  t = {:.4g} s  {:.0f}%  |ΔE|/E = {:.2e}  Newton {}  elapsed {:.1f} s  ETA {:.1f} s{}",
+             tty_ ? "\r" : "", p.step, p.expected_steps, p.time, 100.0 * p.fraction, p.energy_drift,
+             p.newton_iterations, t, eta, tty_ ? "  " : "\n");
   std::fflush(out_);
   printed_ = true;
 }

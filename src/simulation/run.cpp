@@ -1,6 +1,7 @@
 #include "simulation/run.hpp"
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -73,10 +74,6 @@ fem::StressScheme stress_scheme(io::StressScheme s) {
   return s == io::StressScheme::midpoint ? fem::StressScheme::midpoint : fem::StressScheme::conserving;
 }
 
-/// Puts a fresh active set holding `constraints` in place of `contacts`, at
-/// the same address (the integrator and the output hold pointers to it).
-/// ActiveSet::set_constraints alone would keep the per-node flags of a
-/// failed attempt: a slave activated in it would never be activated again.
 /// The run's contact set and integrator, and the step control around them.
 template <int D>
 struct Stepper {
@@ -169,9 +166,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     return file;
   };
   Stepper<D> stepper{sc, problem.model, contacts, integrator, control, sc.time.step, sc.time.min_step};
-  // The last step of this invocation, as far as known before cutbacks.
-  const int last_step = static_cast<int>(std::min<long>(step_count(sc.time), long{state.step} + max_steps));
-  ProgressLine progress(options.progress, last_step, sc.output.progress_every);
+  ProgressLine progress(options.progress, sc.output.progress_every);
+  const double start_time = state.time;
   summary.min_dt = control.dt;
   const int first_cutbacks = control.cutbacks;
   int taken = 0;
@@ -208,8 +204,22 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
       solver::ScopedTimer timer(summary.output_seconds);
       integrator.drop_factorization();  // a restart starts without one
       save(state, contacts.constraints());
+      prune_checkpoints(dir, state.step, sc.output.checkpoint_keep);
     }
-    progress.update(state.step, state.time, e, record.newton.iterations);
+    // This invocation ends at the end time or after max_steps, whichever
+    // comes first; the steps left are estimated at the current Δt.
+    const bool last = taken + 1 == max_steps || finished(sc.time, state);
+    const double by_time = (state.time - start_time) / (sc.time.end - start_time);
+    const double by_steps = static_cast<double>(taken + 1) / max_steps;
+    const long left_by_time = std::lround(std::ceil((sc.time.end - state.time) / control.dt - 1e-6));
+    const long left = last ? 0 : std::max(1L, std::min(left_by_time, long{max_steps} - taken - 1));
+    progress.update({.step = state.step,
+                     .expected_steps = static_cast<int>(state.step + left),
+                     .time = state.time,
+                     .fraction = last ? 1.0 : std::clamp(std::max(by_time, by_steps), 0.0, 1.0),
+                     .energy_drift = e,
+                     .newton_iterations = record.newton.iterations,
+                     .last = last});
   }
   progress.finish();
   summary.steps = taken;

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <sstream>
 
 #include "io/history_writer.hpp"
 #include "support/cli.hpp"
@@ -71,6 +73,31 @@ TEST(Cutback, RecoversByHalvingTheStep) {
               h.rows.size() - 1, total_cutbacks, smallest, drift);
   EXPECT_LT(drift, 1e-10) << "variable steps still conserve energy";
   EXPECT_TRUE(fs::exists(dir / "out/vtu/step_000002.vtu"));
+}
+
+TEST(Cutback, ProgressLineCountsTheExtraSteps) {
+  const auto dir = scratch("cutback_progress");
+  std::string scenario = kStiffStep;
+  scenario.replace(scenario.find("vtu_every = 2"), 13, "vtu_every = 0\nprogress_every = 1");
+  write_file(dir / "s.toml", scenario);
+  const CliResult r = run_cli("run s.toml -o out", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t steps = io::read_history(dir / "out/history.csv").rows.size() - 1;
+  ASSERT_GT(steps, 4u) << "cutbacks add steps to the nominal 4";
+  // The last line says the run ended at the step it did, at 100 %, and
+  // no line promised fewer steps than had already been taken.
+  const std::string n = std::to_string(steps);
+  EXPECT_THAT(r.err, HasSubstr("step " + n + "/" + n + "  t = 0.2 s  100%")) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("ETA 0.0 s")) << r.err;
+  std::istringstream lines(r.err);
+  int shown = 0;
+  for (std::string line; std::getline(lines, line);) {
+    int step = 0, expected = 0;
+    if (std::sscanf(line.c_str(), "step %d/%d", &step, &expected) != 2) continue;
+    EXPECT_GE(expected, step) << line;
+    EXPECT_EQ(step, ++shown) << line;
+  }
+  EXPECT_EQ(shown, static_cast<int>(steps));
 }
 
 /// Two discs meeting at step 9; one Newton iteration is never enough for

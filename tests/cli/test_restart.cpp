@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "support/cli.hpp"
 #include "support/contact_scenarios.hpp"
 
@@ -80,6 +82,33 @@ TEST(Restart, RefusesATruncatedCheckpoint) {
   const CliResult r = run_cli("run s.toml -q -o a --restart cut.bin", dir);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_THAT(r.err, HasSubstr("cut.bin: bad checkpoint"));
+}
+
+/// The checkpoint files in DIR/checkpoints, by name.
+std::set<std::string> checkpoint_files(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& f : fs::directory_iterator(dir / "checkpoints")) names.insert(f.path().filename().string());
+  return names;
+}
+
+TEST(Restart, KeepsOnlyTheNewestCheckpoints) {
+  const auto dir = scratch("restart_keep");
+  write_file(dir / "two.toml", kGlancingDiscs + "checkpoint_keep = 2\n");
+  write_file(dir / "all.toml", kGlancingDiscs + "checkpoint_keep = 0\n");
+  ASSERT_EQ(run_cli("run two.toml -q -o two --steps 45", dir).exit_code, 0);
+  EXPECT_EQ(checkpoint_files(dir / "two"), (std::set<std::string>{"ckpt_000030.bin", "ckpt_000040.bin"}));
+  ASSERT_EQ(run_cli("run all.toml -q -o all --steps 45", dir).exit_code, 0);
+  EXPECT_EQ(checkpoint_files(dir / "all").size(), 4u);
+  // A restart from an older checkpoint prunes those before the step it
+  // reaches but leaves the later ones of the earlier run alone; an
+  // unrelated file in the folder is never touched.
+  write_file(dir / "two/checkpoints/notes.txt", "mine");
+  ASSERT_EQ(run_cli("run two.toml -q -o two --steps 5 --restart two/checkpoints/ckpt_000030.bin", dir).exit_code, 0);
+  EXPECT_EQ(checkpoint_files(dir / "two"),
+            (std::set<std::string>{"ckpt_000030.bin", "ckpt_000040.bin", "notes.txt"}));
+  ASSERT_EQ(run_cli("run two.toml -q -o two --steps 20 --restart two/checkpoints/ckpt_000030.bin", dir).exit_code, 0);
+  EXPECT_EQ(checkpoint_files(dir / "two"),
+            (std::set<std::string>{"ckpt_000040.bin", "ckpt_000050.bin", "notes.txt"}));
 }
 
 }  // namespace
