@@ -177,8 +177,8 @@ $Elements
 $EndElements
 )";
 
-TEST(BadInputMore, ContactSurfaceNotOnTheBoundary) {
-  const std::string scenario = R"(dimension = 2
+/// The square above in contact with a ground strip, slave "square:diag".
+const std::string kSquareScenario = R"(dimension = 2
 [time]
 step = 0.01
 end = 0.02
@@ -207,9 +207,45 @@ slave = "square:diag"
 master = "ground"
 kind = "frictionless"
 )";
-  const CliResult r = check("not_boundary", scenario, "square.msh", kSquareWithDiagonal);
+
+TEST(BadInputMore, ContactSurfaceNotOnTheBoundary) {
+  const CliResult r = check("not_boundary", kSquareScenario, "square.msh", kSquareWithDiagonal);
   expect_one_line_error(r, "contact[0]");
   EXPECT_THAT(r.err, HasSubstr("not on the body's boundary"));
+}
+
+TEST(BadInputMore, EmptyContactSurface) {
+  // A physical group that names no element: the contact surface is empty.
+  std::string mesh = kSquareWithDiagonal;
+  const std::string names = "$PhysicalNames\n2\n";
+  mesh.replace(mesh.find(names), names.size(), "$PhysicalNames\n3\n1 3 \"rim\"\n");
+  std::string scenario = kSquareScenario;
+  scenario.replace(scenario.find("square:diag"), 11, "square:rim");
+  const CliResult r = check("empty_surface", scenario, "square.msh", mesh);
+  expect_one_line_error(r, "contact[0]");
+  EXPECT_THAT(r.err, HasSubstr("rim"));
+}
+
+/// `conserve run` on bad input stops before it writes anything: no output
+/// folder appears, so a failed run never leaves half a result behind.
+TEST(BadInputMore, RunOnBadInputWritesNothing) {
+  const auto dir = scratch("more_nothing_written");
+  write_file(dir / "overlap.toml", two_boxes(0.7));
+  write_file(dir / "square.toml", kSquareScenario);
+  write_file(dir / "square.msh", kSquareWithDiagonal);
+  write_file(dir / "tet.toml", kTetScenario);
+  write_file(dir / "tet.msh", one_tet(kTags, kCoords, "1 3 2 4"));  // inverted
+  std::string good = kTetScenario;
+  good.replace(good.find("tet.msh"), 7, "good.msh");
+  write_file(dir / "good_tet.toml", good);
+  write_file(dir / "good.msh", one_tet(kTags, kCoords, "1 2 3 4"));
+  write_file(dir / "ckpt.bin", "not a checkpoint at all");
+  for (const std::string& args : {"run overlap.toml -q -o out", "run square.toml -q -o out", "run tet.toml -q -o out",
+                                  "run good_tet.toml -q -o out --restart ckpt.bin"}) {
+    const CliResult r = run_cli(args, dir);
+    EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out")) << args;
+  }
 }
 
 TEST(BadInputMore, RestartFromGarbage) {
