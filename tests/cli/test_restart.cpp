@@ -5,7 +5,18 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
 #include <set>
+#include <sstream>
+#include <thread>
+#include <vector>
 
 #include "support/cli.hpp"
 #include "support/contact_scenarios.hpp"
@@ -82,6 +93,81 @@ TEST(Restart, RefusesATruncatedCheckpoint) {
   const CliResult r = run_cli("run s.toml -q -o a --restart cut.bin", dir);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_THAT(r.err, HasSubstr("cut.bin: bad checkpoint"));
+}
+
+/// Starts `conserve ARGS...` in `dir` with its output discarded; returns
+/// the child's process id.
+pid_t spawn_cli(const fs::path& dir, const std::vector<std::string>& args) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(dir.c_str()) != 0) _exit(127);
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    std::vector<char*> argv{const_cast<char*>(CONSERVE_BINARY)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(CONSERVE_BINARY, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+TEST(Restart, KilledRunContinuesBitIdentically) {
+  // SIGKILL while the run writes VTU files, history rows and checkpoints:
+  // whatever it left is whole (no .tmp file, no truncated VTU, no torn
+  // history row), and the newest checkpoint continues it to the same
+  // history, step sizes and time series as the run that was never killed.
+  const auto dir = scratch("restart_killed");
+  std::string scenario = kBallOnPlane;
+  scenario.replace(scenario.find("vtu_every = 0"), 13, "vtu_every = 3");
+  scenario.replace(scenario.find("checkpoint_every = 25"), 21, "checkpoint_every = 7\ncheckpoint_keep = 0");
+  write_file(dir / "s.toml", scenario);
+  const CliResult full = run_cli("run s.toml -q -o full", dir);
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  const pid_t pid = spawn_cli(dir, {"run", "s.toml", "-q", "-o", "part"});
+  ASSERT_GT(pid, 0);
+  int status = 0;
+  bool exited = false;
+  while (!fs::exists(dir / "part/checkpoints/ckpt_000035.bin") && !exited) {
+    exited = waitpid(pid, &status, WNOHANG) == pid;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  if (!exited) {
+    kill(pid, SIGKILL);
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  }
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it could be killed; give it more steps";
+  // What the killed run left behind is whole.
+  int newest = -1, vtus = 0;
+  for (const auto& f : fs::recursive_directory_iterator(dir / "part")) {
+    EXPECT_NE(f.path().extension(), ".tmp") << f.path();
+    const std::string name = f.path().filename().string();
+    if (f.path().extension() == ".vtu") {
+      ++vtus;
+      const std::string text = slurp(f.path());
+      EXPECT_TRUE(text.ends_with("</VTKFile>\n")) << f.path() << " is truncated";
+    }
+    if (name.starts_with("ckpt_")) newest = std::max(newest, std::stoi(name.substr(5, 6)));
+  }
+  const std::string history = slurp(dir / "part/history.csv");
+  ASSERT_FALSE(history.empty());
+  EXPECT_EQ(history.back(), '\n') << "a torn history row";
+  const std::string header = history.substr(0, history.find('\n'));
+  std::istringstream rows(history);
+  int lines = 0;
+  for (std::string row; std::getline(rows, row); ++lines)
+    EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(header.begin(), header.end(), ',')) << row;
+  const int killed_at = lines - 2;  // the last step with a history row
+  ASSERT_GE(newest, 35);
+  std::printf("[ measured ] killed after step %d with %d VTU files; restarting from checkpoint %d\n", killed_at,
+              vtus, newest);
+  const std::string ckpt = fmt::format("part/checkpoints/ckpt_{:06d}.bin", newest);
+  const CliResult rest = run_cli("run s.toml -q -o part --restart " + ckpt, dir);
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
+  EXPECT_TRUE(slurp(dir / "full/history.csv") == slurp(dir / "part/history.csv")) << "history.csv differs";
+  EXPECT_TRUE(slurp(dir / "full/steps.csv") == slurp(dir / "part/steps.csv")) << "steps.csv differs";
+  EXPECT_EQ(slurp(dir / "full/solution.pvd"), slurp(dir / "part/solution.pvd"));
 }
 
 /// The checkpoint files in DIR/checkpoints, by name.
