@@ -47,6 +47,12 @@ seed fuzz_msh 3 tests/data/msh/*.msh examples/**/*.msh tests/data/scenarios/mesh
 seed fuzz_msh 2 tests/data/msh/square.msh examples/validation/disc.msh
 seed fuzz_scenario "" tests/data/scenarios/*.toml examples/**/*.toml
 
+leaks=1
+if ! bash scripts/lsan-works.sh clang++; then
+  leaks=0
+  echo "fuzz: LeakSanitizer cannot run here (ptrace is not allowed); fuzzing without leak checks"
+fi
+
 status=0
 for t in "${targets[@]}"; do
   findings="$build/findings/$t"
@@ -55,7 +61,7 @@ for t in "${targets[@]}"; do
   [ "$t" = fuzz_msh ] && dict=fuzz/msh.dict
   echo "fuzz: $t for ${seconds} s"
   if ! "$build/$t" "$build/corpus/$t" -dict="$dict" -max_total_time="$seconds" -max_len=65536 -timeout=10 \
-      -rss_limit_mb=2048 -artifact_prefix="$findings/" -print_final_stats=1 2>"$build/$t.log"; then
+      -rss_limit_mb=2048 -detect_leaks="$leaks" -artifact_prefix="$findings/" -print_final_stats=1 2>"$build/$t.log"; then
     status=1
     echo "fuzz: $t found a problem:"
     grep -E "ERROR|SUMMARY|terminate|what\(\)" "$build/$t.log" | head -20
