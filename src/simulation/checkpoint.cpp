@@ -175,6 +175,7 @@ std::uint64_t scenario_hash(const io::Scenario& sc, const model::Model<D>& model
     h.value(b.lame.mu);
     h.value(b.density);
   }
+  for (const auto& g : model.geometry) h.value(g.volume);  // holds the 2D thickness
   h.matrix(model.gravity);
   h.vector(model.prescribed.dofs);
   h.vector(model.prescribed.value);
@@ -184,6 +185,7 @@ std::uint64_t scenario_hash(const io::Scenario& sc, const model::Model<D>& model
   h.value(static_cast<int>(sc.time.mass));
   h.value(sc.newton.residual_tolerance);
   h.value(sc.newton.increment_tolerance);
+  h.value(sc.newton.reuse_factorization);  // changes the iterates at round-off level
   for (const auto& c : sc.contacts) {
     for (const auto* s : {&c.slave_body, &c.slave_group, &c.master_body, &c.master_group}) {
       h.bytes(s->data(), s->size());

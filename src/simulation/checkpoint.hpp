@@ -44,9 +44,10 @@ struct Checkpoint {
   std::vector<contact::Constraint<D>> constraints;
 };
 
-/// A hash of what determines the trajectory: the model (coordinates, cells,
-/// bodies' materials, prescribed dofs, initial conditions), gravity, time
-/// step, schemes, Newton tolerances and contact pairs. The end time, output
+/// A hash of what determines the trajectory: the model (coordinates, cells
+/// and their volumes, bodies' materials, prescribed dofs, initial
+/// conditions), gravity, time step, schemes, Newton tolerances and
+/// factorization reuse, and contact pairs. The end time, output
 /// settings and the effort limits (min_step, max_iterations, max_passes)
 /// are not in it, so that a run may be continued further, with other
 /// output, or with more effort after a failure.

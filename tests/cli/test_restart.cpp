@@ -84,6 +84,25 @@ TEST(Restart, RefusesACheckpointOfAnotherScenario) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+TEST(Restart, RefusesACheckpointOfAnotherThicknessOrSolverPath) {
+  // Neither changes a 2D trajectory's displacements by much, but both
+  // change its history: the thickness scales every energy, factorization
+  // reuse moves the iterates at round-off level.
+  const auto dir = scratch("restart_other_thickness");
+  write_file(dir / "s.toml", kGlancingDiscs);
+  std::string thick = kGlancingDiscs;
+  thick.replace(thick.find("[body.material]"), 15, "thickness = 0.5\n[body.material]");
+  write_file(dir / "thick.toml", thick);
+  write_file(dir / "reuse.toml", kGlancingDiscs + "[newton]\nreuse_factorization = true\n");
+  ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10", dir).exit_code, 0);
+  for (const std::string other : {"thick.toml", "reuse.toml"}) {
+    ASSERT_EQ(run_cli("check " + other, dir).exit_code, 0) << other;
+    const CliResult r = run_cli("run " + other + " -q -o b --restart a/checkpoints/ckpt_000010.bin", dir);
+    EXPECT_EQ(r.exit_code, 1) << other << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr("written by another scenario")) << other;
+  }
+}
+
 TEST(Restart, RefusesATruncatedCheckpoint) {
   const auto dir = scratch("restart_truncated");
   write_file(dir / "s.toml", kGlancingDiscs);
