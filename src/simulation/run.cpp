@@ -190,9 +190,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     summary.min_dt = std::min(summary.min_dt, dt);
     const time::Diagnostics d = time::diagnostics<D>(assembler, state);
     const double e = drift.add(d, totals);
+    const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
     {
       solver::ScopedTimer timer(summary.output_seconds);
-      output.write(state, d, record, taken + 1 == max_steps || finished(sc.time, state));
+      output.write(state, d, record, last);
       steps_csv.write_row({static_cast<double>(state.step), state.time, dt, static_cast<double>(failures)});
     }
     totals.newton_iterations += record.newton.iterations;
@@ -208,7 +209,6 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     }
     // This invocation ends at the end time or after max_steps, whichever
     // comes first; the steps left are estimated at the current Δt.
-    const bool last = taken + 1 == max_steps || finished(sc.time, state);
     const double by_time = (state.time - start_time) / (sc.time.end - start_time);
     const double by_steps = static_cast<double>(taken + 1) / max_steps;
     const long left_by_time = std::lround(std::ceil((sc.time.end - state.time) / control.dt - 1e-6));

@@ -2,34 +2,19 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "contact/debug_output.hpp"
 #include "core/error.hpp"
+#include "support/files.hpp"
 
 namespace conserve::contact {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  const auto dir = fs::path(::testing::TempDir()) / ("conserve_contact_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 template <int D>
 void writes_fields(const std::string& name) {
-  const auto dir = scratch(name);
+  const auto dir = test::scratch("contact_" + name);
   Positions<D> x = Positions<D>::Zero(D, 4);
   x(0, 1) = 1.0;
   x(1, 2) = 1.0;
@@ -40,7 +25,7 @@ void writes_fields(const std::string& name) {
   const auto file = dir / "contact.vtu";
   write_contact_state_vtu<D>(file, {1, 2, 3}, x, matches);
   ASSERT_TRUE(fs::exists(file));
-  const std::string xml = read_text(file);
+  const std::string xml = test::slurp(file);
   EXPECT_NE(xml.find("<VTKFile"), std::string::npos);
   EXPECT_NE(xml.find("NumberOfPoints=\"3\""), std::string::npos);
   for (const char* field : {"gap", "normal", "master_facet", "xi", "inside", "slave_node"})
@@ -55,7 +40,7 @@ TEST(DebugOutput, ContactState3d) { writes_fields<3>("state3"); }
 TEST(DebugOutput, ContactState2d) { writes_fields<2>("state2"); }
 
 TEST(DebugOutput, NoSlavesStillWritesAValidFile) {
-  const auto dir = scratch("empty");
+  const auto dir = test::scratch("contact_empty");
   write_contact_state_vtu<3>(dir / "none.vtu", {}, Positions<3>::Zero(3, 2), {});
   EXPECT_TRUE(fs::exists(dir / "none.vtu"));
 }

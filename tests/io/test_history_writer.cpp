@@ -7,10 +7,10 @@
 #include <fstream>
 #include <limits>
 #include <random>
-#include <sstream>
 
 #include "core/error.hpp"
 #include "io/history_writer.hpp"
+#include "support/files.hpp"
 
 namespace conserve::io {
 namespace {
@@ -24,13 +24,6 @@ fs::path scratch_file(const std::string& name) {
 }
 
 void write_text(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::vector<double> awkward_values() {
   using limits = std::numeric_limits<double>;
@@ -84,9 +77,9 @@ TEST(History, NanSurvivesAsNan) {
 TEST(History, HeaderAndRowsAreFlushedImmediately) {
   const auto file = scratch_file("flush.csv");
   HistoryWriter writer(file, {"time", "energy"});
-  EXPECT_EQ(read_text(file), "time,energy\n");
+  EXPECT_EQ(test::slurp(file), "time,energy\n");
   writer.write_row({0.5, -2.0});
-  EXPECT_EQ(read_text(file), "time,energy\n0.5,-2\n");  // while the writer is still open
+  EXPECT_EQ(test::slurp(file), "time,energy\n0.5,-2\n");  // while the writer is still open
 }
 
 TEST(History, ColumnByName) {

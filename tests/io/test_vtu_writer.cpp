@@ -5,33 +5,17 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 #include "core/error.hpp"
 #include "io/vtu_writer.hpp"
 #include "support/base64.hpp"
+#include "support/files.hpp"
 
 namespace conserve::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// A fresh, empty folder for one test.
-fs::path scratch(const std::string& name) {
-  const auto dir = fs::path(::testing::TempDir()) / ("conserve_vtu_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 using test::base64_decode;
 
@@ -78,10 +62,10 @@ VtuGrid two_tetrahedra() {
 }
 
 TEST(VtuWriter, TetrahedraDecodeBitForBit) {
-  const auto file = scratch("tets") / "grid.vtu";
+  const auto file = test::scratch("vtu_tets") / "grid.vtu";
   const auto grid = two_tetrahedra();
   write_vtu(file, grid);
-  const auto xml = read_text(file);
+  const auto xml = test::slurp(file);
   EXPECT_NE(xml.find("type=\"UnstructuredGrid\""), std::string::npos);
   EXPECT_NE(xml.find("header_type=\"UInt64\""), std::string::npos);
   EXPECT_NE(xml.find("NumberOfPoints=\"5\" NumberOfCells=\"2\""), std::string::npos);
@@ -102,34 +86,34 @@ TEST(VtuWriter, TwoDimensionalPointsArePaddedWithZ) {
   grid.points << 0, 1, 1, 0, 0, 0, 1, 1;
   grid.cells.resize(3, 2);
   grid.cells << 0, 0, 1, 2, 2, 3;
-  const auto file = scratch("tris") / "grid.vtu";
+  const auto file = test::scratch("vtu_tris") / "grid.vtu";
   write_vtu(file, grid);
-  const auto xml = read_text(file);
+  const auto xml = test::slurp(file);
   EXPECT_EQ(decode_array<double>(xml, "<Points>"), (std::vector<double>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}));
   EXPECT_EQ(decode_array<std::uint8_t>(xml, "Name=\"types\""), (std::vector<std::uint8_t>{5, 5}));
   EXPECT_EQ(decode_array<std::int64_t>(xml, "Name=\"offsets\""), (std::vector<std::int64_t>{3, 6}));
 }
 
 TEST(VtuWriter, LinesAndVertices) {
-  const auto dir = scratch("lines");
+  const auto dir = test::scratch("vtu_lines");
   VtuGrid grid;
   grid.points = Eigen::MatrixXd::Zero(3, 3);
   grid.cells.resize(2, 2);
   grid.cells << 0, 1, 1, 2;
   write_vtu(dir / "lines.vtu", grid);
-  EXPECT_EQ(decode_array<std::uint8_t>(read_text(dir / "lines.vtu"), "Name=\"types\""),
+  EXPECT_EQ(decode_array<std::uint8_t>(test::slurp(dir / "lines.vtu"), "Name=\"types\""),
             (std::vector<std::uint8_t>{3, 3}));
   // 0 to 4 vertices: every base64 padding case of the UInt8 array.
   for (int n = 0; n <= 4; ++n) {
     grid.cells = Eigen::MatrixXi::Zero(1, n);
     write_vtu(dir / "vertices.vtu", grid);
-    EXPECT_EQ(decode_array<std::uint8_t>(read_text(dir / "vertices.vtu"), "Name=\"types\""),
+    EXPECT_EQ(decode_array<std::uint8_t>(test::slurp(dir / "vertices.vtu"), "Name=\"types\""),
               std::vector<std::uint8_t>(static_cast<std::size_t>(n), 1));
   }
 }
 
 TEST(VtuWriter, NoTemporaryFileLeftBehind) {
-  const auto dir = scratch("tmp");
+  const auto dir = test::scratch("vtu_tmp");
   write_vtu(dir / "a.vtu", two_tetrahedra());
   write_vtu(dir / "a.vtu", two_tetrahedra());  // overwrite in place
   std::vector<std::string> names;
@@ -138,34 +122,34 @@ TEST(VtuWriter, NoTemporaryFileLeftBehind) {
 }
 
 TEST(VtuWriter, MissingDirectoryThrowsError) {
-  const auto file = scratch("missing") / "no" / "such" / "dir" / "a.vtu";
+  const auto file = test::scratch("vtu_missing") / "no" / "such" / "dir" / "a.vtu";
   EXPECT_THROW(write_vtu(file, two_tetrahedra()), Error);
 }
 
 TEST(VtuWriter, WrongFieldSizeThrowsError) {
   auto grid = two_tetrahedra();
   grid.point_data[0].values.pop_back();
-  EXPECT_THROW(write_vtu(scratch("bad") / "a.vtu", grid), Error);
+  EXPECT_THROW(write_vtu(test::scratch("vtu_bad") / "a.vtu", grid), Error);
   grid = two_tetrahedra();
   grid.cells(0, 0) = 5;  // no such point
-  EXPECT_THROW(write_vtu(scratch("bad") / "a.vtu", grid), Error);
+  EXPECT_THROW(write_vtu(test::scratch("vtu_bad") / "a.vtu", grid), Error);
 }
 
 TEST(VtuWriter, XmllintAcceptsTheFileIfAvailable) {
   if (std::system("xmllint --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "xmllint not installed";
-  const auto file = scratch("xmllint") / "a.vtu";
+  const auto file = test::scratch("vtu_xmllint") / "a.vtu";
   write_vtu(file, two_tetrahedra());
   EXPECT_EQ(std::system(("xmllint --noout '" + file.string() + "'").c_str()), 0);
 }
 
 TEST(PvdWriter, ListsEntriesInOrderAndRewritesAfterEachAdd) {
-  const auto dir = scratch("pvd");
+  const auto dir = test::scratch("vtu_pvd");
   PvdWriter pvd(dir / "run.pvd");
   pvd.add(0.0, "step_0000.vtu");
-  EXPECT_NE(read_text(dir / "run.pvd").find("file=\"step_0000.vtu\""), std::string::npos);
+  EXPECT_NE(test::slurp(dir / "run.pvd").find("file=\"step_0000.vtu\""), std::string::npos);
   pvd.add(0.1, "step_0010.vtu");
   pvd.add(0.30000000000000004, "a&b.vtu");
-  const auto xml = read_text(dir / "run.pvd");
+  const auto xml = test::slurp(dir / "run.pvd");
   const auto first = xml.find("<DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"step_0000.vtu\"/>");
   const auto second = xml.find("<DataSet timestep=\"0.1\" group=\"\" part=\"0\" file=\"step_0010.vtu\"/>");
   const auto third = xml.find("timestep=\"0.30000000000000004\" group=\"\" part=\"0\" file=\"a&amp;b.vtu\"/>");
@@ -178,7 +162,7 @@ TEST(PvdWriter, ListsEntriesInOrderAndRewritesAfterEachAdd) {
 }
 
 TEST(PvdWriter, MissingDirectoryThrowsError) {
-  PvdWriter pvd(scratch("pvd_missing") / "no" / "run.pvd");
+  PvdWriter pvd(test::scratch("vtu_pvd_missing") / "no" / "run.pvd");
   EXPECT_THROW(pvd.add(0.0, "a.vtu"), Error);
 }
 
