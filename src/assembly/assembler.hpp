@@ -8,6 +8,12 @@
 
 namespace conserve::assembly {
 
+/// The most compressed cell of a configuration.
+struct Orientation {
+  double det_F = 0.0;  ///< smallest det F over the cells (≤ 0: inverted)
+  int cell = -1;       ///< global cell, −1 if there are no cells
+};
+
 template <int D>
 class Assembler {
  public:
@@ -21,13 +27,23 @@ class Assembler {
   /// Constant external force from gravity, f_A = Σ_B M_AB g [N].
   [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
 
-  /// Internal force of the step u_n → u_{n+1} [N].
+  /// Internal force of the step u_n → u_{n+1} [N]; with `magnitude`, also
+  /// Σ_cells |f_cell| per dof (what the sum cancelled, for round-off bounds).
   void internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
-                      Eigen::VectorXd& f) const;
+                      Eigen::VectorXd& f, Eigen::VectorXd* magnitude = nullptr) const;
+
+  /// Per dof, Σ_cells V (λ + 2μ) |∇N_A| [N]: the internal force of a unit
+  /// strain. The strain E = ½(FᵀF − 1) of a nearly rigid cell is computed
+  /// with an absolute error of round-off ε, so ε times this bounds the
+  /// round-off of the internal force however small the strains.
+  [[nodiscard]] const Eigen::VectorXd& stiffness_scale() const { return stiffness_scale_; }
 
   /// Internal force and K = ∂f/∂u_{n+1}; K must have the pattern's layout.
   void internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                               Eigen::VectorXd& f, SparseMatrix& K) const;
+
+  /// The smallest det F over the cells at displacements u, and its cell.
+  [[nodiscard]] Orientation min_det_F(const Eigen::VectorXd& u) const;
 
   /// Stored energy W(u) = Σ_cells V ρ0Ψ [J].
   [[nodiscard]] double strain_energy(const Eigen::VectorXd& u) const;
@@ -41,6 +57,7 @@ class Assembler {
   BlockPattern<D> pattern_;
   SparseMatrix mass_;
   Eigen::VectorXd gravity_force_;
+  Eigen::VectorXd stiffness_scale_;
 };
 
 }  // namespace conserve::assembly

@@ -1,6 +1,8 @@
 #include "contact/active_set.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace conserve::contact {
 
@@ -10,10 +12,17 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
       pairs_(std::move(pairs)),
       is_active_(model.num_nodes(), 0),
       released_(model.num_nodes(), 0),
+      held_(model.num_nodes(), 0),
       prescribed_(model.num_nodes(), 0) {
   for (int d : model.prescribed.dofs) prescribed_[d / D] = 1;
   const Positions<D> x = model.X;
   for (auto& pair : pairs_) pair.tree.build(pair.master.facets, x);
+}
+
+template <int D>
+void ActiveSet<D>::begin_step() {
+  std::fill(released_.begin(), released_.end(), 0);
+  std::fill(held_.begin(), held_.end(), 0);
 }
 
 template <int D>
@@ -35,7 +44,8 @@ Positions<D> ActiveSet<D>::positions(const Eigen::VectorXd& u) const {
 
 /// A match counts for activation if its projection lies inside the facet
 /// or leaves it only across edges shared with another facet of the surface
-/// (a convex corner); a point beyond the surface's border is not in contact.
+/// (a convex corner); a point beyond the surface's border (by more than
+/// `tol`, isoparametric) is not in contact.
 template <int D>
 bool within_surface(const ContactSurface& surface, const Match<D>& m, double tol) {
   if (m.projection.inside(tol)) return true;
@@ -43,6 +53,14 @@ bool within_surface(const ContactSurface& surface, const Match<D>& m, double tol
   for (int k = 0; k < D; ++k)
     if (N(k) < -tol && surface.facet_neighbours(k, m.facet) < 0) return false;
   return true;
+}
+
+template <int D>
+std::optional<Match<D>> ActiveSet<D>::search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
+                                             const Vec<D>& slave_normal) const {
+  const auto match = find_master<D>(x.col(pair.slave.nodes[i]), pair.master, pair.tree, x, pair.search, slave_normal);
+  if (!match || !within_surface<D>(pair.master, *match, pair.search.border_tolerance)) return std::nullopt;
+  return match;
 }
 
 template <int D>
@@ -56,7 +74,8 @@ bool ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_n
   return released || activated;
 }
 
-// (46), (65): keep the constraint while f_N = g_s·n_{n+½} ≥ 0.
+// (46), (65): keep the constraint while f_N = g_s·n_{n+½} ≥ 0 (or while it
+// is held after a release earlier in the step).
 template <int D>
 bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats) {
   std::vector<Constraint<D>> kept;
@@ -66,7 +85,7 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
     for (int a = 0; a < D; ++a) xm.col(a) = x_mid.col(c.master[a]);
     c.normal = facet_normal<D>(xm);
     const double f_n = g.template segment<D>(c.slave * D).dot(c.normal);
-    if (f_n < 0.0) {
+    if (f_n < 0.0 && !held_[c.slave]) {
       is_active_[c.slave] = 0;
       released_[c.slave] = 1;
       ++stats.releases;
@@ -82,34 +101,24 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
 
 template <int D>
 bool ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats) {
-  const Positions<D> x_mid = 0.5 * (x_n + x_np1);
   bool changed = false;
   for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
     ContactPair<D>& pair = pairs_[p];
     pair.tree.refit(x_np1);
     const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x_np1);
+    std::vector<std::pair<std::size_t, Match<D>>> found;
     for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
       const int s = pair.slave.nodes[i];
-      if (is_active_[s] || released_[s] || prescribed_[s]) continue;
-      const auto match = find_master<D>(x_np1.col(s), pair.master, pair.tree, x_np1, pair.search, normals[i]);
-      if (!match || match->projection.gap >= -pair.search.penetration_tolerance) continue;
-      if (!within_surface<D>(pair.master, *match, pair.search.inside_tolerance)) continue;
-      // ξ̄ and n from the mid-point configuration of this solve (§5, §7).
-      Match<D> mid = *match;
-      mid.projection = project<D>(x_mid.col(s), facet_nodes<D>(pair.master, mid.facet, x_mid));
-      mid = follow<D>(x_mid.col(s), mid, pair.master, x_mid, pair.search.inside_tolerance);
-      Constraint<D> c;
-      c.pair = p;
-      c.slave = s;
-      c.facet = mid.facet;
-      for (int a = 0; a < D; ++a) c.master[a] = pair.master.facets(a, mid.facet);
-      c.xi = mid.projection.xi;
-      c.normal = mid.projection.normal;
-      c.tangents = mid.projection.tangents;
-      c.kind = pair.kind;
-      c.activation_gap = project<D>(x_n.col(s), facet_nodes<D>(pair.master, mid.facet, x_n)).gap;
-      stats.max_activation_gap = std::max(stats.max_activation_gap, c.activation_gap);
+      if (is_active_[s] || prescribed_[s]) continue;
+      const auto match = search(pair, i, x_np1, normals[i]);
+      if (match && match->projection.gap < -pair.search.penetration_tolerance) found.emplace_back(i, *match);
+    }
+    for (const auto& [i, end] : found) {
+      const int s = pair.slave.nodes[i];
+      const Constraint<D> c = make_constraint(p, s, end, x_n, x_np1);
+      stats.max_activation_gap = std::max(stats.max_activation_gap, c.gap);
       ++stats.activations;
+      if (released_[s]) held_[s] = 1, ++stats.held;
       is_active_[s] = 1;
       active_.push_back(c);
       normal_forces_.push_back(0.0);
@@ -117,6 +126,73 @@ bool ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions
     }
   }
   return changed;
+}
+
+// The facet the slave was found behind at the end of the step; its gap
+// γ and, for stick, its frozen ξ̄ are those of the slave's position at the
+// START of the step on that facet, so that the constraint holds what the
+// slave had: for stick F(x_m,n) = x_s,n exactly (no work, whatever the
+// facet); for frictionless γ is clamped at 0 (a slave that was over a
+// neighbouring facet across a convex edge may start behind this one's
+// plane), the difference being absorbed by the zero-work force direction.
+template <int D>
+Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
+                                            const Positions<D>& x_np1) const {
+  const ContactPair<D>& pair = pairs_[p];
+  const Positions<D> x_mid = 0.5 * (x_n + x_np1);
+  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pair.master, end.facet, x_n));
+  const Projection<D> mid = project<D>(x_mid.col(s), facet_nodes<D>(pair.master, end.facet, x_mid));
+  Constraint<D> c;
+  c.pair = p;
+  c.slave = s;
+  c.kind = pair.kind;
+  c.facet = end.facet;
+  for (int a = 0; a < D; ++a) c.master[a] = pair.master.facets(a, c.facet);
+  c.gap = c.kind == Kind::stick ? start.gap : std::max(start.gap, 0.0);
+  c.xi = c.kind == Kind::stick ? start.xi : mid.xi;
+  c.normal = mid.normal;
+  c.tangents = mid.tangents;
+  return c;
+}
+
+template <int D>
+Penetration ActiveSet<D>::max_penetration(const Eigen::VectorXd& u) {
+  const Positions<D> x = positions(u);
+  Penetration deepest;
+  for (ContactPair<D>& pair : pairs_) {
+    pair.tree.refit(x);
+    const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
+    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
+      const int s = pair.slave.nodes[i];
+      if (prescribed_[s]) continue;
+      const auto match = search(pair, i, x, normals[i]);
+      if (match && -match->projection.gap > deepest.depth) deepest = {-match->projection.gap, s};
+    }
+  }
+  return deepest;
+}
+
+template <int D>
+ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  if (active_.empty()) return {nan, nan};
+  const Positions<D> x = positions(u);
+  std::vector<std::vector<Vec<D>>> normals;
+  for (ContactPair<D>& pair : pairs_) {
+    pair.tree.refit(x);
+    normals.push_back(node_normals<D>(pair.slave, x));
+  }
+  ActiveGaps gaps{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const Constraint<D>& c : active_) {
+    const ContactPair<D>& pair = pairs_[c.pair];
+    const auto i = static_cast<std::size_t>(pair.slave.local_node(c.slave));
+    const auto match = search(pair, i, x, normals[c.pair][i]);
+    const double gap = match ? match->projection.gap
+                             : project<D>(x.col(c.slave), facet_nodes<D>(pair.master, c.facet, x)).gap;
+    gaps.min = std::min(gaps.min, gap);
+    gaps.max = std::max(gaps.max, gap);
+  }
+  return gaps;
 }
 
 template class ActiveSet<2>;

@@ -1,9 +1,15 @@
 #pragma once
 /// The active set (ALGORITHM.md §7): after each converged solve of a step,
 /// release the constraints whose slave pulls on its master (f_N = g_s·n < 0,
-/// (46)/(65)) and activate the slaves found behind a master facet
-/// (g_N,n+1 < 0), their projection taken on the mid-point configuration.
-/// The caller solves the step again while the set changes.
+/// (46)/(65)) and activate every slave found behind a master facet
+/// (g_N,n+1 < 0), including slaves released earlier in the step: a slave
+/// released and then found behind its master is re-activated and held
+/// until the step ends (its force may then be tensile for that step), so
+/// that no slave ends a converged step behind its master. A slave is
+/// activated holding the gap it had at the start of the step (≥ 0), see
+/// contact/elimination.hpp. The caller solves the step again while the set
+/// changes.
+#include <limits>
 #include <vector>
 
 #include "contact/constraint.hpp"
@@ -11,12 +17,32 @@
 
 namespace conserve::contact {
 
-/// What happened to the active set during one step.
+/// What happened to the active set during one step, and the contact
+/// geometry at its end.
 struct StepContactStats {
   int passes = 0;                ///< solves of the step
   int activations = 0;
   int releases = 0;
-  double max_activation_gap = 0.0;  ///< largest g_N(t_n) of a slave activated in the step [m]
+  int held = 0;                  ///< released slaves re-activated (and kept) in the step
+  double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
+  /// At the end of the step: the deepest slave behind a master facet,
+  /// active or not (0 if none), and the extreme gaps of the active slaves
+  /// (NaN if none) [m].
+  double max_penetration = 0.0;
+  double min_active_gap = std::numeric_limits<double>::quiet_NaN();
+  double max_active_gap = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// The deepest penetration found by ActiveSet::max_penetration.
+struct Penetration {
+  double depth = 0.0;  ///< ≥ 0 [m]
+  int node = -1;       ///< global slave node, −1 if none
+};
+
+/// Signed gaps of the active slaves at some positions [m]: NaN if none.
+struct ActiveGaps {
+  double min = 0.0;
+  double max = 0.0;
 };
 
 template <int D>
@@ -30,8 +56,9 @@ class ActiveSet {
   /// Normal force f_N = g_s·n_{n+½} of each constraint after the last update [N].
   [[nodiscard]] const std::vector<double>& normal_forces() const { return normal_forces_; }
 
-  /// Starts a step: forgets which slaves were released in the previous one.
-  void begin_step() { released_.assign(released_.size(), 0); }
+  /// Starts a step: forgets which slaves were released or held in the
+  /// previous one.
+  void begin_step();
 
   /// After a converged solve of u_n → u_{n+1} with full residual g: updates
   /// the set; true if it changed (then solve the step again).
@@ -43,10 +70,27 @@ class ActiveSet {
   /// flags follow, the normal forces are zero until the next update.
   void set_constraints(std::vector<Constraint<D>> constraints);
 
+  /// The deepest slave node behind a master facet at displacements u,
+  /// active or not, by the activation search's rules (far side, slave
+  /// normal, surface border); depth 0 and node −1 if none.
+  [[nodiscard]] Penetration max_penetration(const Eigen::VectorXd& u);
+  /// The smallest and largest gap of the active slaves at displacements u,
+  /// each measured on the master surface as max_penetration does (on its
+  /// constraint's facet if that search finds none).
+  [[nodiscard]] ActiveGaps active_gaps(const Eigen::VectorXd& u);
+
  private:
   bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats);
   bool activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats);
+  /// The constraint that makes slave s of pair p hold what it had at the
+  /// start of the step; `end` is the facet it was found behind at the end.
+  [[nodiscard]] Constraint<D> make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
+                                              const Positions<D>& x_np1) const;
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
+  /// The master facet slave `pair.slave.nodes[i]` is behind or in front of
+  /// at positions x (the tree refitted to x), within the surface.
+  [[nodiscard]] std::optional<Match<D>> search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
+                                               const Vec<D>& slave_normal) const;
 
   const model::Model<D>& model_;
   std::vector<ContactPair<D>> pairs_;
@@ -54,6 +98,7 @@ class ActiveSet {
   std::vector<double> normal_forces_;
   std::vector<char> is_active_;   ///< per node: slave of an active constraint
   std::vector<char> released_;    ///< per node: released during this step
+  std::vector<char> held_;        ///< per node: re-activated after a release in this step; not released again
   std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
 };
 

@@ -25,18 +25,26 @@ struct ContactPair {
   FacetTree<D> tree;  ///< over master facets, refitted before each search
 };
 
-/// One active constraint: slave node s tied to master facet m.
+/// One active constraint: slave node s tied to a master facet. The
+/// constraint holds the slave's gap γ at the end of every step (so that it
+/// never ends behind its master) with a contact force that does no work
+/// (contact/zero_work.hpp).
 template <int D>
 struct Constraint {
   int pair = -1;
-  int slave = -1;                  ///< global node
-  int facet = -1;                  ///< column of the master surface's facets
-  std::array<int, D> master{};     ///< global master nodes
-  Xi<D> xi = Xi<D>::Zero();        ///< stick: frozen ξ̄; frictionless: ξ_{n+½}
-  Vec<D> normal = Vec<D>::Zero();  ///< n_{n+½}, master outward normal at the mid-point
-  Tangents<D> tangents = Tangents<D>::Zero();  ///< τ_{n+½}
+  int slave = -1;  ///< global node
   Kind kind = Kind::stick;
-  double activation_gap = 0.0;  ///< g_N at t_n when activated [m]
+  /// The master facet (a column of the master surface's facets): stick:
+  /// the facet the slave is frozen to; frictionless: the facet the slave's
+  /// end position projects on, where its gap is held and its force acts.
+  int facet = -1;
+  std::array<int, D> master{};                 ///< global nodes of `facet`
+  Xi<D> xi = Xi<D>::Zero();                    ///< stick: frozen ξ̄; frictionless: ξ_{n+½}
+  Vec<D> normal = Vec<D>::Zero();              ///< n_{n+½}, outward normal of `facet` at the mid-point
+  Tangents<D> tangents = Tangents<D>::Zero();  ///< τ_{n+½}
+  /// γ: the gap held, the slave's gap at the start of the step it was
+  /// activated in (≥ 0) [m]. Stick: the height of the slave above ξ̄.
+  double gap = 0.0;
 };
 
 }  // namespace conserve::contact

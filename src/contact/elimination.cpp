@@ -4,21 +4,29 @@
 
 #include <map>
 
+#include <unsupported/Eigen/AutoDiff>
+
+#include "contact/zero_work.hpp"
 #include "core/error.hpp"
 
 namespace conserve::contact {
 namespace {
 
-/// A row of T: reduced-unknown index → coefficient.
+/// A row of a map: reduced-unknown index → coefficient.
 using Row = std::map<int, double>;
 
-/// Expands every slave dof into reduced unknowns by substitution (chains),
-/// refusing cycles.
+/// Composes every slave dof's row of a map from the constraints' local
+/// coefficients by substitution (chains), refusing cycles.
 template <int D>
 class RowBuilder {
  public:
-  RowBuilder(int num_nodes, const std::vector<Constraint<D>>& constraints)
-      : constraints_(constraints), of_node_(num_nodes, -1), state_(constraints.size(), 0), rows_(constraints.size()) {
+  using Coefficients = typename Elimination<D>::Coefficients;
+  RowBuilder(int num_nodes, const std::vector<Constraint<D>>& constraints, std::vector<const Coefficients*> local)
+      : constraints_(constraints),
+        local_(std::move(local)),
+        of_node_(num_nodes, -1),
+        state_(constraints.size(), 0),
+        rows_(constraints.size()) {
     for (std::size_t c = 0; c < constraints.size(); ++c) {
       int& owner = of_node_[constraints[c].slave];
       if (owner >= 0)
@@ -37,35 +45,67 @@ class RowBuilder {
           constraints_[c].slave));
     state_[c] = 1;
     const Constraint<D>& k = constraints_[c];
-    const Vec<D> N = facet_shape<D>(k.xi);
+    const Coefficients& l = *local_[c];
     std::array<Row, D> out;
-    for (int a = 0; a < D; ++a) add_node(out, k.master[a], N(a));
+    for (std::size_t a = 0; a < l.nodes.size(); ++a) add_node(out, l.nodes[a], l.master.middleCols(a * D, D));
     if (k.kind == Kind::frictionless)  // (49): slip unknowns in the slave's first D−1 slots
       for (int j = 0; j < D - 1; ++j)
-        for (int i = 0; i < D; ++i) out[i][k.slave * D + j] += k.tangents(i, j);
+        for (int i = 0; i < D; ++i) out[i][k.slave * D + j] += l.slip(i, j);
     rows_[c] = std::move(out);
     state_[c] = 2;
+    order_.push_back(c);
     return rows_[c];
   }
 
+  /// Constraints in the order their rows were completed: every constraint
+  /// after those of its chained master nodes.
+  [[nodiscard]] const std::vector<int>& order() const { return order_; }
+
  private:
-  void add_node(std::array<Row, D>& out, int node, double coeff) {
+  /// Adds C δx_node (C: D × D) to the rows.
+  void add_node(std::array<Row, D>& out, int node, const Eigen::MatrixXd& C) {
     if (of_node_[node] < 0) {
-      for (int i = 0; i < D; ++i) out[i][node * D + i] += coeff;
+      for (int i = 0; i < D; ++i)
+        for (int k = 0; k < D; ++k)
+          if (C(i, k) != 0.0) out[i][node * D + k] += C(i, k);
       return;
     }
     const std::array<Row, D>& sub = rows(of_node_[node]);
     for (int i = 0; i < D; ++i)
-      for (const auto& [q, c] : sub[i]) out[i][q] += coeff * c;
+      for (int k = 0; k < D; ++k)
+        if (C(i, k) != 0.0)
+          for (const auto& [q, c] : sub[k]) out[i][q] += C(i, k) * c;
   }
 
   const std::vector<Constraint<D>>& constraints_;
+  std::vector<const Coefficients*> local_;
   std::vector<int> of_node_;
   std::vector<char> state_;  ///< 0 new, 1 being expanded, 2 done
   std::vector<std::array<Row, D>> rows_;
+  std::vector<int> order_;
 };
 
-using Terms = std::vector<std::pair<int, double>>;
+/// N(ξ) ⊗ 1 over a facet's nodes: D × D².
+template <int D>
+Eigen::MatrixXd shape_block(const Xi<D>& xi) {
+  const Vec<D> N = facet_shape<D>(xi);
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(D, D * D);
+  for (int b = 0; b < D; ++b) C.middleCols(b * D, D) = N(b) * Mat<D>::Identity();
+  return C;
+}
+
+template <int N>
+using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+
+/// Seeds x as the AD variables of the end positions: entry k of the
+/// flattened matrix has derivative e_k. The same seeding serves for the
+/// displacements dx = x − x_n, whose derivatives are those of x.
+template <int N, int R, int C>
+Eigen::Matrix<AD<N>, R, C> variables(const Eigen::Matrix<double, R, C>& x) {
+  Eigen::Matrix<AD<N>, R, C> y;
+  for (int k = 0; k < R * C; ++k) y(k) = AD<N>(x(k), N, k);
+  return y;
+}
 
 }  // namespace
 
@@ -92,116 +132,152 @@ Positions<D> Elimination<D>::positions(const Eigen::VectorXd& u) const {
   return X_ + u.reshaped(D, num_nodes_);
 }
 
-namespace {
-
-/// First-order data of one frictionless constraint at positions x (end of
-/// step) and x_n (start): see Elimination::Local and the derivation in
-/// docs/theory.md. c = (d_s − N d_m)·n with d = x − x_n is the normal
-/// constraint (48); the update keeps c = 0 by moving the slave along n.
-template <int D, class Local>
-Local frictionless_local(const Constraint<D>& k, const Positions<D>& x, const Positions<D>& x_n) {
-  FacetNodes<D> xm, xm_n;
-  for (int a = 0; a < D; ++a) xm.col(a) = x.col(k.master[a]), xm_n.col(a) = x_n.col(k.master[a]);
-  const Vec<D> ys = 0.5 * (x.col(k.slave) + x_n.col(k.slave));
-  const FacetNodes<D> ym = 0.5 * (xm + xm_n);
-  const Projection<D> p = project<D>(ys, ym);
-  const auto Jxi = xi_gradient<D>(ys, ym);
-  const auto Jn = normal_gradient<D>(ym);
-  const Vec<D> N = facet_shape<D>(p.xi);
-  const FacetNodes<D> dm = xm - xm_n;
-  const Vec<D> h = (x.col(k.slave) - x_n.col(k.slave)) - dm * N;
-  Xi<D> a;  // Σ_a (d_m,a·n) ∇N_a, ∇N_0 = −1, ∇N_j = e_{j−1}
-  for (int j = 0; j < D - 1; ++j) a(j) = (dm.col(j + 1) - dm.col(0)).dot(p.normal);
-  const Eigen::Matrix<double, 1, D> dc_s = p.normal.transpose() - 0.5 * a.transpose() * Jxi.template leftCols<D>();
-  Eigen::Matrix<double, D, Local::W> S0 = Eigen::Matrix<double, D, Local::W>::Zero();
-  Eigen::Matrix<double, 1, Local::W> dc_m = Eigen::Matrix<double, 1, Local::W>::Zero();
-  for (int b = 0; b < D; ++b) {
-    S0.template block<D, D>(0, b * D) = N(b) * Mat<D>::Identity();
-    dc_m.template segment<D>(b * D) = -N(b) * p.normal.transpose() -
-                                      0.5 * a.transpose() * Jxi.template block<D - 1, D>(0, D * (b + 1)) +
-                                      0.5 * h.transpose() * Jn.template block<D, D>(0, D * (b + 1));
-  }
-  S0.template rightCols<D - 1>() = p.tangents;
-  Local l;
-  l.S = S0 - p.normal * (dc_s * S0 + dc_m) / dc_s.dot(p.normal);
-  Eigen::Matrix<double, D - 1, Local::W> dxi_m = Eigen::Matrix<double, D - 1, Local::W>::Zero();
-  dxi_m.template leftCols<D * D>() = Jxi.template rightCols<D * D>();
-  l.dxi = 0.5 * (Jxi.template leftCols<D>() * l.S + dxi_m);
-  return l;
+template <int D>
+typename Elimination<D>::Kernel Elimination<D>::kernel_input(const Constraint<D>& k, const Eigen::VectorXd& u) const {
+  Kernel in;
+  auto put = [&](int column, int node) {
+    in.x.col(column) = X_.col(node) + u.template segment<D>(node * D);
+    in.dx.col(column) = u.template segment<D>(node * D) - u_n_.template segment<D>(node * D);
+  };
+  put(0, k.slave);
+  for (int b = 0; b < D; ++b) put(b + 1, k.master[b]);
+  in.xm_n = in.x.template rightCols<D>() - in.dx.template rightCols<D>();
+  if (k.kind == Kind::stick)
+    in.offset = (X_.col(k.slave) + u_n_.template segment<D>(k.slave * D)) -
+                zero_work::stick_position<D, double>(in.xm_n, k.xi, k.gap);
+  return in;
 }
 
-}  // namespace
+template <int D>
+typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, const Eigen::VectorXd& u) const {
+  Local l;
+  const Kernel in = kernel_input(k, u);
+  l.test.nodes.assign(k.master.begin(), k.master.end());
+  l.trial.nodes = l.test.nodes;
+  const auto xm = in.x.template rightCols<D>();
+  if (k.kind == Kind::stick) {
+    l.trial.master = zero_work::stick_jacobian<D, double>(xm, k.xi, k.gap);
+    l.test.master = zero_work::stick_test<D, double>(xm, in.dx.template rightCols<D>(), in.xm_n, in.offset, k.xi, k.gap);
+    return l;
+  }
+  const Projection<D> p = project<D>(in.x.col(0), xm);
+  l.trial.master = shape_block<D>(p.xi);
+  l.trial.slip = p.tangents;
+  const auto t = zero_work::frictionless_test<D, double>(in.x, in.dx);
+  l.test.master = t.master;
+  l.test.slip = t.slip;
+  return l;
+}
 
 template <int D>
 void Elimination<D>::build(const Eigen::VectorXd* u) {
   const int n = num_nodes_ * D;
-  RowBuilder<D> builder(num_nodes_, constraints_);
-  is_slave_.assign(num_nodes_, 0);
-  is_stick_.assign(num_nodes_, 0);
-  slave_row_of_.assign(n, -1);
-  slave_rows_.clear();
-  locals_.clear();
+  std::vector<Local> locals;
+  locals.reserve(constraints_.size());
   for (const Constraint<D>& k : constraints_) {
-    is_slave_[k.slave] = 1;
-    is_stick_[k.slave] = k.kind == Kind::stick;
+    if (u && pairs_) {
+      locals.push_back(local(k, *u));
+      continue;
+    }
+    Local l;  // no geometry: the slave on its facet at ξ, the paper's maps
+    l.trial.nodes.assign(k.master.begin(), k.master.end());
+    l.trial.master = shape_block<D>(k.xi);
+    l.trial.slip = k.tangents;
+    l.test = l.trial;
+    locals.push_back(std::move(l));
   }
-  std::vector<Eigen::Triplet<double>> t, d;
+  if (u) u_ = *u;
+  std::vector<const Coefficients*> trial, test;
+  for (const Local& l : locals) trial.push_back(&l.trial), test.push_back(&l.test);
+  test_.clear();
+  for (const Local& l : locals) test_.push_back(l.test);
+  RowBuilder<D> trial_builder(num_nodes_, constraints_, trial), test_builder(num_nodes_, constraints_, test);
+  is_slave_.assign(num_nodes_, 0);
+  slave_row_of_.assign(n, -1);
+  trial_rows_.clear();
+  test_rows_.clear();
+  std::vector<Eigen::Triplet<double>> t, w, d;
   for (std::size_t c = 0; c < constraints_.size(); ++c) {
     const Constraint<D>& k = constraints_[c];
-    const auto& rows = builder.rows(static_cast<int>(c));
+    is_slave_[k.slave] = 1;
+    const auto& trial_rows = trial_builder.rows(static_cast<int>(c));
+    const auto& test_rows = test_builder.rows(static_cast<int>(c));
     for (int i = 0; i < D; ++i) {
-      slave_row_of_[k.slave * D + i] = static_cast<int>(slave_rows_.size());
-      slave_rows_.emplace_back(k.slave * D + i, Terms(rows[i].begin(), rows[i].end()));
-      for (const auto& [q, coeff] : rows[i]) t.emplace_back(k.slave * D + i, q, coeff);
+      slave_row_of_[k.slave * D + i] = static_cast<int>(trial_rows_.size());
+      trial_rows_.emplace_back(k.slave * D + i, Terms(trial_rows[i].begin(), trial_rows[i].end()));
+      test_rows_.emplace_back(k.slave * D + i, Terms(test_rows[i].begin(), test_rows[i].end()));
+      for (const auto& [q, coeff] : trial_rows[i]) t.emplace_back(k.slave * D + i, q, coeff);
+      for (const auto& [q, coeff] : test_rows[i]) w.emplace_back(k.slave * D + i, q, coeff);
     }
     for (int j = (k.kind == Kind::frictionless ? D - 1 : 0); j < D; ++j)
       d.emplace_back(k.slave * D + j, k.slave * D + j, 1.0);
   }
+  order_ = test_builder.order();
   for (int node = 0; node < num_nodes_; ++node)
     if (!is_slave_[node])
-      for (int i = 0; i < D; ++i) t.emplace_back(node * D + i, node * D + i, 1.0);
+      for (int i = 0; i < D; ++i) {
+        t.emplace_back(node * D + i, node * D + i, 1.0);
+        w.emplace_back(node * D + i, node * D + i, 1.0);
+      }
   T_.resize(n, n);
   T_.setFromTriplets(t.begin(), t.end());
+  W_.resize(n, n);
+  W_.setFromTriplets(w.begin(), w.end());
   dummy_.resize(n, n);
   dummy_.setFromTriplets(d.begin(), d.end());
-  T_prime_ = T_;
-  if (!u || !pairs_) return;
-  const Positions<D> x = positions(*u), x_n = positions(u_n_);
-  for (std::size_t c = 0; c < constraints_.size(); ++c) {
-    if (constraints_[c].kind != Kind::frictionless) continue;
-    locals_.push_back(frictionless_local<D, Local>(constraints_[c], x, x_n));
-    locals_.back().constraint = static_cast<int>(c);
-  }
-  // T′: the frictionless slaves' rows become S mapped to the reduced unknowns.
-  std::vector<Eigen::Triplet<double>> tp;
-  std::vector<char> replaced(n, 0);
-  for (const Local& l : locals_) {
-    const Constraint<D>& k = constraints_[l.constraint];
-    for (int kappa = 0; kappa < Local::W; ++kappa)
-      for (const auto& [q, coeff] : local_terms(k, kappa))
-        for (int i = 0; i < D; ++i) tp.emplace_back(k.slave * D + i, q, l.S(i, kappa) * coeff);
-    for (int i = 0; i < D; ++i) replaced[k.slave * D + i] = 1;
-  }
-  for (const auto& tr : t)
-    if (!replaced[tr.row()]) tp.push_back(tr);
-  T_prime_.setFromTriplets(tp.begin(), tp.end());
 }
 
 template <int D>
-std::vector<std::pair<int, double>> Elimination<D>::local_terms(const Constraint<D>& k, int kappa) const {
-  if (kappa >= D * D) return {{k.slave * D + kappa - D * D, 1.0}};  // slip slot
-  const int node = k.master[kappa / D], i = kappa % D;
+typename Elimination<D>::Terms Elimination<D>::terms(const Rows& rows, int node, int i) const {
   if (!is_slave_[node]) return {{node * D + i, 1.0}};
-  return slave_rows_[slave_row_of_[node * D + i]].second;  // a chained master: its own row of T
+  return rows[slave_row_of_[node * D + i]].second;
 }
 
 template <int D>
 void Elimination<D>::reduce_residual(const Eigen::VectorXd& g, Eigen::VectorXd& r) const {
-  r = T_.transpose() * g;  // (41), (56)
+  r = W_.transpose() * g;  // (41), (56)
 }
 
-// V = (δT)ᵀ g: master rows get g_s δN_b (δN_b = ∇N_b·δξ_{n+½}), slip rows
-// get g_s·δτ_j with δτ_j = ½(δx_{m,j} − δx_{m,0}) (mid-point tangents).
+// V = (δW)ᵀ g: the derivative of the constraint's test coefficients
+// contracted with the slave's residual, by automatic differentiation of
+// the zero-work kernels with respect to the end positions of the
+// constraint's nodes, mapped to reduced unknowns through T (inputs) and
+// W (outputs).
+template <int D>
+void Elimination<D>::add_variation(const Constraint<D>& k, const Vec<D>& g_s, const Eigen::VectorXd& u,
+                                   std::vector<Eigen::Triplet<double>>& v) const {
+  const Kernel in = kernel_input(k, u);
+  if (k.kind == Kind::stick) {
+    constexpr int N = D * D;
+    const zero_work::Facet<D, double> xm = in.x.template rightCols<D>(), dxm = in.dx.template rightCols<D>();
+    const auto A = zero_work::stick_test<D, AD<N>>(variables<N>(xm), variables<N>(dxm), in.xm_n, in.offset, k.xi,
+                                                   k.gap);
+    const Eigen::Matrix<AD<N>, N, 1> rho = A.transpose() * g_s.template cast<AD<N>>();
+    for (int o = 0; o < N; ++o)
+      for (const auto& [q1, c1] : terms(test_rows_, k.master[o / D], o % D))
+        for (int i = 0; i < N; ++i) {
+          const double dr = rho(o).derivatives()(i);
+          if (dr == 0.0) continue;
+          for (const auto& [q2, c2] : terms(trial_rows_, k.master[i / D], i % D)) v.emplace_back(q1, q2, c1 * dr * c2);
+        }
+    return;
+  }
+  constexpr int N = D * (D + 1);
+  const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx));
+  const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
+  auto node_of = [&](int i) { return i < D ? k.slave : k.master[i / D - 1]; };
+  for (int o = 0; o < D * D + D - 1; ++o) {
+    const AD<N> rho = o < D * D ? t.master.col(o).dot(gs) : t.slip.col(o - D * D).dot(gs);
+    const Terms out = o < D * D ? terms(test_rows_, k.master[o / D], o % D) : Terms{{k.slave * D + o - D * D, 1.0}};
+    for (const auto& [q1, c1] : out)
+      for (int i = 0; i < N; ++i) {
+        const double dr = rho.derivatives()(i);
+        if (dr == 0.0) continue;
+        for (const auto& [q2, c2] : terms(trial_rows_, node_of(i), i % D)) v.emplace_back(q1, q2, c1 * dr * c2);
+      }
+  }
+}
+
 template <int D>
 void Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const {
   std::vector<Eigen::Triplet<double>> v;
@@ -212,28 +288,24 @@ void Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd
       for (int i = 0; i < D; ++i) trace += K.coeff(s * D + i, s * D + i);
       v.emplace_back(it.row(), it.col(), trace / D);
     }
-  for (const Local& l : locals_) {
-    const Constraint<D>& k = constraints_[l.constraint];
-    const Vec<D> gs = g.template segment<D>(k.slave * D);
-    Eigen::Matrix<double, Local::W, Local::W> V = Eigen::Matrix<double, Local::W, Local::W>::Zero();
-    for (int b = 0; b < D; ++b) {
-      Xi<D> gradN = b == 0 ? Xi<D>(-Xi<D>::Ones()) : Xi<D>(Xi<D>::Unit(b - 1));
-      V.template block<D, Local::W>(b * D, 0) = gs * (gradN.transpose() * l.dxi);
+  if (pairs_ && u_.size() == g.size()) {
+    // The residual each slave passes on to its masters' rows: its own plus
+    // what chained slaves passed on to it (a chain's slave is a master node
+    // of another constraint), accumulated from the outer end of the chains.
+    Eigen::VectorXd passed = g;
+    for (auto c = order_.rbegin(); c != order_.rend(); ++c) {
+      const Constraint<D>& k = constraints_[*c];
+      const Coefficients& l = test_[*c];
+      const Vec<D> gs = passed.template segment<D>(k.slave * D);
+      for (std::size_t a = 0; a < l.nodes.size(); ++a)
+        if (is_slave_[l.nodes[a]])
+          passed.template segment<D>(l.nodes[a] * D) += l.master.middleCols(a * D, D).transpose() * gs;
     }
-    for (int j = 0; j < D - 1; ++j) {
-      V.template block<1, D>(D * D + j, D * (j + 1)) += 0.5 * gs.transpose();
-      V.template block<1, D>(D * D + j, 0) -= 0.5 * gs.transpose();
-    }
-    for (int rho = 0; rho < Local::W; ++rho)
-      for (int kappa = 0; kappa < Local::W; ++kappa) {
-        if (V(rho, kappa) == 0.0) continue;
-        for (const auto& [q1, c1] : local_terms(k, rho))
-          for (const auto& [q2, c2] : local_terms(k, kappa)) v.emplace_back(q1, q2, c1 * V(rho, kappa) * c2);
-      }
+    for (const Constraint<D>& k : constraints_) add_variation(k, passed.template segment<D>(k.slave * D), u_, v);
   }
   SparseMatrix extra(K.rows(), K.cols());
   extra.setFromTriplets(v.begin(), v.end());
-  K_r = SparseMatrix(T_.transpose() * K * T_prime_) + extra;  // (43), (58)
+  K_r = SparseMatrix(W_.transpose() * K * T_) + extra;  // (43), (58)
 }
 
 template <int D>
@@ -241,60 +313,73 @@ void Elimination<D>::expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const
   du = T_ * q;
 }
 
-// (60)–(64), steps 2 and 3: the mid-point closest-point projection (moving
-// to a neighbouring facet when it has left its own), then the removal of
-// the normal violation so that (48) holds exactly.
+// The frictionless slave back to its held gap γ on its facet, the facet
+// the slave's end position projects on, which is also the facet its force
+// acts on: then a·Δx, the work the zero-work correction has to absorb, is
+// of third order in the step except on the step a slave crosses an edge
+// (contact/zero_work.hpp). The facet may be switched at most kMaxSwitches
+// times per solve by walking to the facet the point projects on, so that
+// a slave near an edge cannot make Newton's iterates hop between two
+// facets; after that its projection is extrapolated, which is safe at a
+// convex edge (the extended plane lies outside the neighbour). At a
+// concave edge the neighbour is always taken when the slave projects
+// inside it with a smaller gap, so that it ends behind neither facet.
 template <int D>
-void Elimination<D>::project_frictionless(Eigen::VectorXd& u) {
-  if (!pairs_) return;
-  const Positions<D> x_n = positions(u_n_);
-  for (int sweep = 0; sweep < 2; ++sweep) {  // a second sweep settles chains
-    for (Constraint<D>& k : constraints_) {
-      if (k.kind != Kind::frictionless) continue;
-      const Positions<D> x = positions(u), x_mid = 0.5 * (x + x_n);
-      const ContactSurface& master = (*pairs_)[k.pair].master;
-      Match<D> m{k.facet, project<D>(x_mid.col(k.slave), facet_nodes<D>(master, k.facet, x_mid))};
-      // Facet switching (§7), at most kMaxSwitches times per solve: a slave
-      // near a facet edge could otherwise hop between two facets from one
-      // Newton iteration to the next and stall it. After that the facet is
-      // kept and the projection extrapolated, which conservation allows.
-      int& switches = switches_[&k - constraints_.data()];
-      if (switches < kMaxSwitches) {
-        m = follow<D>(x_mid.col(k.slave), m, master, x_mid);
-        if (m.facet != k.facet) ++switches;
-      }
-      k.facet = m.facet;
-      for (int a = 0; a < D; ++a) k.master[a] = master.facets(a, m.facet);
-      k.xi = m.projection.xi;
-      k.normal = m.projection.normal;
-      k.tangents = m.projection.tangents;
-      Vec<D> d = x.col(k.slave) - x_n.col(k.slave);
-      const Vec<D> N = facet_shape<D>(k.xi);
-      for (int a = 0; a < D; ++a) d -= N(a) * (x.col(k.master[a]) - x_n.col(k.master[a]));
-      u.template segment<D>(k.slave * D) -= d.dot(k.normal) * k.normal;
+void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const {
+  const ContactSurface& master = (*pairs_)[k.pair].master;
+  const double tol = (*pairs_)[k.pair].search.inside_tolerance;
+  Vec<D> xs = x.col(k.slave);
+  int facet = k.facet;
+  for (int pass = 0; pass < 4; ++pass) {
+    Match<D> best{facet, project<D>(xs, facet_nodes<D>(master, facet, x))};
+    if (switches < kMaxSwitches) best = follow<D>(xs, best, master, x, tol);
+    for (int side = 0; side < D; ++side) {
+      const int next = master.facet_neighbours(side, best.facet);
+      if (next < 0) continue;
+      const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
+      if (p.inside(tol) && p.gap < best.projection.gap) best = Match<D>{next, p};
     }
+    xs -= (best.projection.gap - k.gap) * best.projection.normal;
+    if (best.facet == facet) break;
+    facet = best.facet;
+    ++switches;
   }
-}
-
-template <int D>
-void Elimination<D>::update(const Eigen::VectorXd& q, Eigen::VectorXd& u) {
-  u += T_ * q;  // step 1 (49), (60)
-  project_frictionless(u);
-  build(&u);
+  x.col(k.slave) = xs;
+  x_mid.col(k.slave) = 0.5 * (xs + (X_.col(k.slave) + u_n_.template segment<D>(k.slave * D)));
+  const Projection<D> mid = project<D>(x_mid.col(k.slave), facet_nodes<D>(master, facet, x_mid));  // (60)–(64), 2
+  k.facet = facet;
+  for (int a = 0; a < D; ++a) k.master[a] = master.facets(a, facet);
+  k.xi = mid.xi;
+  k.normal = mid.normal;
+  k.tangents = mid.tangents;
 }
 
 template <int D>
 void Elimination<D>::enforce(Eigen::VectorXd& u) {
-  if (u_n_.size() != u.size()) throw Error("Elimination::enforce needs the step's start (geometry constructor)");
-  for (const auto& [row, terms] : slave_rows_) {  // (45): a stick slave follows its master point
-    if (!is_stick_[row / D]) continue;
-    double du = 0.0;
-    for (const auto& [q, coeff] : terms)
-      if (!is_slave_[q / D]) du += coeff * (u[q] - u_n_[q]);
-    u[row] = u_n_[row] + du;
+  if (!pairs_) throw Error("Elimination::enforce needs the step's geometry (the geometry constructor)");
+  Positions<D> x = positions(u), x_mid = 0.5 * (x + positions(u_n_));
+  for (int sweep = 0; sweep < 2; ++sweep) {  // a second sweep settles chains
+    for (std::size_t c = 0; c < constraints_.size(); ++c) {
+      Constraint<D>& k = constraints_[c];
+      if (k.kind == Kind::stick) {  // (45): the slave at its point of the facet's frame
+        zero_work::Facet<D, double> xm;
+        for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
+        x.col(k.slave) = zero_work::stick_position<D, double>(xm, k.xi, k.gap);
+        x_mid.col(k.slave) = 0.5 * (x.col(k.slave) + X_.col(k.slave) + u_n_.template segment<D>(k.slave * D));
+      } else {
+        place_frictionless(k, x, x_mid, switches_[c]);
+      }
+    }
   }
-  project_frictionless(u);
+  for (const Constraint<D>& k : constraints_)
+    u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
   build(&u);
+}
+
+template <int D>
+void Elimination<D>::update(const Eigen::VectorXd& q, Eigen::VectorXd& u) {
+  u += T_ * q;  // (49), (60)
+  enforce(u);
 }
 
 template class Elimination<2>;

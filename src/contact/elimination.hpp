@@ -1,17 +1,24 @@
 #pragma once
 /// Direct elimination of the active slaves' unknowns (ALGORITHM.md §4–§6,
-/// paper (35), (41), (43)–(45), (49), (56)–(64)). The Newton increment is
-/// Δu = T q, where q has the same size as u; a slave's slots in q hold its
-/// slip increments (frictionless: Δξ[, Δη]) and dummies with zero right-hand
-/// side, so the number of equations never changes. The reduced system is
-///   r = Tᵀ g (41)/(56),   K_r = Tᵀ K T′ + V + β (43)/(58),
-/// with β = tr(K_ss)/D on the dummy diagonal (44)/(59). For frictionless
-/// slaves N and τ are re-evaluated at the mid-point closest-point projection
-/// after every update (60)–(64), which also removes the normal violation;
-/// T′ (the first-order effect of that correction) and V (the variation of
-/// N and τ, the paper's A, Ā) make the tangent consistent. A slave whose
-/// master node is itself a slave (a chain) is expanded by substitution; a
-/// cycle is refused with a clear error.
+/// paper (35), (41), (43)–(45), (49), (56)–(64); docs/theory.md). The
+/// reduced unknowns q have the size of u; a slave's slots hold its slip
+/// increments (frictionless: Δξ[, Δη]) and dummies with zero right-hand
+/// side, so the number of equations never changes. Two maps:
+///   trial T: the slave's first-order motion, Δu = T q. Stick: the slave
+///     moves with its point of the master facet's frame, F(x_m) =
+///     N(ξ̄) x_m + γ n(x_m), (35); frictionless: with the end facet's point
+///     and its slips, N Δu_m + τ Δξ (49), then it is moved back along the
+///     normal to its held gap γ (exact for flat facets, so T is exact to
+///     first order); the facet is the one the slave's end position projects
+///     on, and the contact force acts on it too;
+///   test W: the reduced residual r = Wᵀ g (41)/(56), built from the
+///     zero-work force directions of contact/zero_work.hpp (the paper's N
+///     and τ at the mid-point when (48) holds);
+/// and the reduced tangent K_r = Wᵀ K T + V + β, with V = (δW)ᵀ g from
+/// automatic differentiation of the zero-work kernels and β = tr(K_ss)/D
+/// on the dummy diagonal (44)/(59). A slave whose master node is itself a
+/// slave (a chain) is expanded by substitution in both maps (V is then
+/// taken to first order through the chained rows); a cycle is refused.
 #include <vector>
 
 #include "contact/constraint.hpp"
@@ -21,66 +28,85 @@ namespace conserve::contact {
 template <int D>
 class Elimination {
  public:
-  /// Constraints taken as they are (no geometry, no slave updates): for
-  /// tests of the map, and for stick.
+  /// Maps from the constraints' stored ξ and τ alone, as if every slave
+  /// were on its facet (γ = 0: the paper's (35), (49), (41), (56)); no
+  /// geometry, V = 0. For tests of the maps.
   Elimination(int num_nodes, const std::vector<Constraint<D>>& constraints);
 
-  /// The elimination of one step from u_n, with the geometry needed to
-  /// update frictionless slaves (`pairs` must outlive it). `u` is the
-  /// current iterate; it is not modified (call enforce()).
+  /// The elimination of one step from u_n (`pairs` must outlive it) at the
+  /// iterate u, which is not modified (call enforce()).
   Elimination(const Positions<D>& X, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
               const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs);
 
   [[nodiscard]] bool empty() const { return constraints_.empty(); }
   [[nodiscard]] const std::vector<Constraint<D>>& constraints() const { return constraints_; }
-  /// The map from reduced unknowns to full increments, ndof × ndof.
+  /// The trial map T, ndof × ndof.
   [[nodiscard]] const SparseMatrix& map() const { return T_; }
+  /// The test map W, ndof × ndof.
+  [[nodiscard]] const SparseMatrix& test_map() const { return W_; }
 
-  /// r = Tᵀ g (the dummy slots come out zero).
+  /// r = Wᵀ g (the dummy slots come out zero).
   void reduce_residual(const Eigen::VectorXd& g, Eigen::VectorXd& r) const;
-  /// K_r = Tᵀ K T′ + V(g) + β on the dummy slots; g is the full residual at
+  /// K_r = Wᵀ K T + V(g) + β on the dummy slots; g is the full residual at
   /// the same iterate.
   void reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const;
-  /// Δu = T q (step 1 of (60)–(64)).
+  /// Δu = T q.
   void expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const;
-  /// Applies the reduced increment: u += T q, then (frictionless) the
-  /// mid-point projection and the normal correction, and re-evaluates T.
+  /// Applies the reduced increment: u += T q, then enforce(u).
   void update(const Eigen::VectorXd& q, Eigen::VectorXd& u);
-  /// Puts a predictor on the constraints: stick slaves follow their master
-  /// point (45); frictionless slaves are projected and corrected (62)–(64).
+  /// Puts the slaves where their constraints hold: stick slaves at F(x_m),
+  /// frictionless slaves back to their gap γ on their end facet; updates
+  /// the facets (end and mid-point) and ξ, n, τ of the constraints, and the
+  /// maps.
   void enforce(Eigen::VectorXd& u);
 
- private:
-  /// Per frictionless constraint, with local unknowns w = (δx_m (D nodes ×
-  /// D), δξ (D−1)): S maps w to the slave's first-order motion including
-  /// the normal correction (its rows of T′); dxi maps w to the change of the
-  /// mid-point projection ξ_{n+½}.
-  struct Local {
-    static constexpr int W = D * D + D - 1;
-    int constraint = -1;
-    Eigen::Matrix<double, D, W> S;
-    Eigen::Matrix<double, D - 1, W> dxi;
+  /// One constraint's coefficients over `nodes` (master nodes, global):
+  /// `master` is D × D·nodes.size() (column a·D + i for node nodes[a],
+  /// component i), `slip` the slave's slip slots (frictionless).
+  struct Coefficients {
+    std::vector<int> nodes;
+    Eigen::MatrixXd master;
+    Tangents<D> slip = Tangents<D>::Zero();
   };
+
+ private:
+  struct Local {
+    Coefficients trial, test;
+  };
+  using Terms = std::vector<std::pair<int, double>>;
+  using Rows = std::vector<std::pair<int, Terms>>;  ///< per slave dof: (row, [(reduced unknown, coefficient)])
+
+  /// A constraint's nodes (slave, facet nodes) for the zero-work kernels:
+  /// end positions, displacements over the step (from displacement
+  /// differences, exact), the facet's start positions, and for stick the
+  /// slave's start offset from its frozen point.
+  struct Kernel {
+    Eigen::Matrix<double, D, D + 1> x, dx;
+    Eigen::Matrix<double, D, D> xm_n;
+    Vec<D> offset = Vec<D>::Zero();
+  };
+  [[nodiscard]] Kernel kernel_input(const Constraint<D>& k, const Eigen::VectorXd& u) const;
   void build(const Eigen::VectorXd* u);
-  /// Reduced unknowns (with coefficients) behind local unknown κ of a
-  /// frictionless constraint: a master node's dof (through its own row of T
-  /// if it is itself a slave) or a slip slot.
-  [[nodiscard]] std::vector<std::pair<int, double>> local_terms(const Constraint<D>& k, int kappa) const;
-  void project_frictionless(Eigen::VectorXd& u);
+  [[nodiscard]] Local local(const Constraint<D>& k, const Eigen::VectorXd& u) const;
+  void place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const;
+  /// Reduced unknowns (with coefficients) behind dof i of `node` through
+  /// the given composed rows (the identity for a node that is no slave).
+  [[nodiscard]] Terms terms(const Rows& rows, int node, int i) const;
+  void add_variation(const Constraint<D>& k, const Vec<D>& g_s, const Eigen::VectorXd& u,
+                     std::vector<Eigen::Triplet<double>>& v) const;
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
 
   std::vector<Constraint<D>> constraints_;
   const std::vector<ContactPair<D>>* pairs_ = nullptr;
   Positions<D> X_;
-  Eigen::VectorXd u_n_;
+  Eigen::VectorXd u_n_, u_;  ///< start of the step; the iterate the maps belong to
   int num_nodes_ = 0;
-  std::vector<char> is_slave_;    ///< per node
-  std::vector<char> is_stick_;    ///< per node: slave of a stick constraint
-  std::vector<int> slave_row_of_; ///< per dof: index into slave_rows_, or −1
-  /// Each slave dof's row of T: (row, [(reduced unknown, coefficient)]).
-  std::vector<std::pair<int, std::vector<std::pair<int, double>>>> slave_rows_;
-  SparseMatrix T_, T_prime_, dummy_;
-  std::vector<Local> locals_;
+  std::vector<char> is_slave_;     ///< per node
+  std::vector<int> slave_row_of_;  ///< per dof: index into the rows, or −1
+  Rows trial_rows_, test_rows_;
+  std::vector<Coefficients> test_;  ///< per constraint: its test coefficients
+  std::vector<int> order_;          ///< constraints, each after those of its chained master nodes
+  SparseMatrix T_, W_, dummy_;
   static constexpr int kMaxSwitches = 2;
   std::vector<int> switches_;  ///< facet switches per constraint in this solve
 };

@@ -16,6 +16,12 @@ struct SearchSettings {
   /// facet's longest edge) behind it: deeper points belong to the far side.
   double depth_factor = 0.5;
   double inside_tolerance = 1e-10;  ///< isoparametric slack for inside()
+  /// Isoparametric slack of the surface's border: a slave up to this
+  /// fraction of a facet beyond the border of the master surface still
+  /// counts as over it. Without it, a slave corner aligned with the
+  /// master's border (equal bars, a block on a block) drifts out and back
+  /// by round-off and deformation and enters behind the master unseen.
+  double border_tolerance = 1e-3;
   /// A slave is activated only when it is more than this behind the master
   /// [m], so that nodes lying on the surface (gap 0 up to round-off) are
   /// not. Set to a round-off multiple of the facet size.

@@ -50,7 +50,6 @@ NewtonSpec parse_newton(const Section& s) {
   NewtonSpec newton;
   newton.max_iterations = s.integer("max_iterations");
   newton.residual_tolerance = s.number("residual_tolerance");
-  newton.increment_tolerance = s.number("increment_tolerance");
   newton.reuse_factorization = s.boolean("reuse_factorization");
   return newton;
 }

@@ -96,10 +96,9 @@ struct TimeSpec {
 
 struct NewtonSpec {
   int max_iterations = 20;
-  /// converged when |r| ≤ residual_tolerance · (reference force of the step)
+  /// converged when |r| ≤ residual_tolerance · (reference force of the
+  /// step), or at |r|'s round-off floor (solver/newton.hpp)
   double residual_tolerance = 1e-12;
-  /// or when |Δ| ≤ increment_tolerance · (size of the model)
-  double increment_tolerance = 1e-13;
   /// modified Newton: reuse factorizations while convergence is fast
   bool reuse_factorization = false;
 };

@@ -86,18 +86,18 @@ SectionSpec newton_section() {
                .type = KeyType::number,
                .default_value = "1e-12",
                .min = above(0),
-               .doc = "converged when |r| ≤ tolerance · (reference force of the step)"},
-              {.name = "increment_tolerance",
-               .type = KeyType::number,
-               .default_value = "1e-13",
-               .min = above(0),
-               .doc = "or when |Δu| ≤ tolerance · (size of the model)"},
+               .doc = "converged when |r| ≤ tolerance · (reference force of the step: the largest of the inertia, "
+                      "load and elastic force norms at its start), or when |r| is at its round-off floor (ε times "
+                      "the forces it sums) and that floor is at most 1e-6 of the reference force (else the step fails: the model is too stiff for double precision at this Δt); a small "
+                      "increment alone never ends the iteration"},
               {.name = "reuse_factorization",
                .type = KeyType::boolean,
                .default_value = "false",
                .doc = "modified Newton: keep a factorization across iterations and steps while each iteration "
                       "reduces the residual 4×; linear convergence, far fewer factorizations, same conservation"},
-          }};
+          },
+          .retired = {{"increment_tolerance",
+                       "removed: Newton converges on the residual only (see residual_tolerance); delete the key"}}};
 }
 
 SectionSpec loads_section() {

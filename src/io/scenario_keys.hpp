@@ -54,6 +54,8 @@ struct SectionSpec {
   /// Also accepts keys not listed (body.mesh: the generator's parameters,
   /// validated against mesh::generator_catalog()).
   bool open = false;
+  /// Keys of earlier versions, with what to do instead (an error names it).
+  std::vector<std::pair<std::string_view, std::string_view>> retired{};
 };
 
 /// All scenario tables, top level first, in documentation order.

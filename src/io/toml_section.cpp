@@ -142,6 +142,8 @@ void Section::check_unknown_keys() const {
     if (!known && (!first || line_of(node) < line_of(*find(first->str())))) first = &key;
   }
   if (!first) return;
+  for (const auto& [name, instead] : spec_->retired)
+    if (name == first->str()) fail(first->str(), fmt::format("'{}' is no longer a key", name), instead);
   fail(first->str(), fmt::format("unknown key '{}'", first->str()), "one of: " + key_names(*spec_));
 }
 

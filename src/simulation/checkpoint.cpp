@@ -16,7 +16,7 @@ namespace conserve::simulation {
 namespace {
 
 constexpr std::string_view kMagic = "conserve-checkpoint";
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 
 /// FNV-1a over raw bytes.
 class Hasher {
@@ -104,7 +104,7 @@ void write_constraint(Writer& w, const contact::Constraint<D>& c) {
   w.doubles(c.normal.data(), c.normal.size());
   w.doubles(c.tangents.data(), c.tangents.size());
   w.value(static_cast<std::int32_t>(c.kind));
-  w.value(c.activation_gap);
+  w.value(c.gap);
 }
 
 template <int D>
@@ -118,7 +118,7 @@ contact::Constraint<D> read_constraint(Reader& r, int num_nodes) {
   r.doubles(c.normal.data(), c.normal.size(), "a constraint's normal");
   r.doubles(c.tangents.data(), c.tangents.size(), "a constraint's tangents");
   const auto kind = r.template value<std::int32_t>();
-  c.activation_gap = r.template value<double>();
+  c.gap = r.template value<double>();
   bool nodes_ok = c.slave >= 0 && c.slave < num_nodes;
   for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
   if (!nodes_ok || (kind != 0 && kind != 1)) r.fail("a contact constraint names a node out of range");
@@ -184,7 +184,6 @@ std::uint64_t scenario_hash(const io::Scenario& sc, const model::Model<D>& model
   h.value(static_cast<int>(sc.time.scheme));
   h.value(static_cast<int>(sc.time.mass));
   h.value(sc.newton.residual_tolerance);
-  h.value(sc.newton.increment_tolerance);
   h.value(sc.newton.reuse_factorization);  // changes the iterates at round-off level
   for (const auto& c : sc.contacts) {
     for (const auto* s : {&c.slave_body, &c.slave_group, &c.master_body, &c.master_group}) {

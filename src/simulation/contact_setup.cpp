@@ -41,7 +41,9 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     pair.search.depth_factor = spec.depth_factor;
     const double h = longest_edge(pair.master, model);
     pair.search.search_distance = spec.depth_factor * h;
-    pair.search.penetration_tolerance = 1e-9 * h;
+    // Round-off of positions of the model's size: a node lying on a surface
+    // (gap 0 up to round-off) is not activated, one behind it by more is.
+    pair.search.penetration_tolerance = 1e-13 * model.size();
     pairs.push_back(std::move(pair));
   }
   return pairs;

@@ -65,7 +65,7 @@ void write_summary(const RunSummary& s, int dofs, const std::filesystem::path& f
 }
 
 solver::NewtonSettings newton_settings(const io::NewtonSpec& n) {
-  solver::NewtonSettings s{n.max_iterations, n.residual_tolerance, n.increment_tolerance};
+  solver::NewtonSettings s{.max_iterations = n.max_iterations, .residual_tolerance = n.residual_tolerance};
   s.reuse_factorization = n.reuse_factorization;
   return s;
 }

@@ -2,6 +2,7 @@
 /// Newton–Raphson on an abstract problem that knows its residual, tangent
 /// and how to apply an increment (the increment may be post-processed, e.g.
 /// by constraint updates). Newton itself knows nothing of mechanics.
+#include <string>
 #include <vector>
 
 #include "solver/linear_solver.hpp"
@@ -17,16 +18,26 @@ class NewtonProblem {
   virtual const SparseMatrix& tangent() = 0;
   /// Applies the increment Δ solved from K Δ = −r.
   virtual void update(const Eigen::VectorXd& increment) = 0;
-  /// Scale of the forces in the problem [N]: |r| ≤ tol · scale converges.
+  /// Reference force of the problem at the last residual [N]: |r| ≤ tol ·
+  /// force_scale converges.
   [[nodiscard]] virtual double force_scale() const = 0;
-  /// Scale of the unknowns [m]: |Δ|∞ ≤ tol · scale converges.
-  [[nodiscard]] virtual double length_scale() const = 0;
+  /// Round-off floor of the last residual's norm [N]: below it the residual
+  /// cannot be computed, so no iteration can bring it lower.
+  [[nodiscard]] virtual double residual_floor() const = 0;
+  /// The force the floor is judged against [N] (≥ force_scale; infinite
+  /// when nothing moves): a residual at its floor is a solution only if the
+  /// floor is at most floor_limit times this.
+  [[nodiscard]] virtual double floor_scale() const { return force_scale(); }
 };
 
 struct NewtonSettings {
   int max_iterations = 20;
+  /// Converged when |r| ≤ residual_tolerance · force_scale.
   double residual_tolerance = 1e-12;
-  double increment_tolerance = 1e-13;
+  /// Or when |r| is at its round-off floor, provided that floor is at most
+  /// floor_limit · floor_scale: a residual that cannot be computed to 1e-6
+  /// is no solution (a model too stiff for double precision at this Δt).
+  double floor_limit = 1e-6;
   /// Modified Newton: keep the last factorization (across iterations and
   /// steps) while each iteration reduces the residual by at least
   /// `reuse_ratio`; refactorize otherwise. Convergence becomes linear but an
@@ -40,12 +51,19 @@ struct NewtonReport {
   bool converged = false;
   int iterations = 0;                  ///< linear solves done
   std::vector<double> residual_norms;  ///< |r| before each solve and at the end
+  double tolerance = 0.0;              ///< residual_tolerance · force_scale [N]
+  double floor = 0.0;                  ///< round-off floor of the last residual [N]
+  /// Why the iteration did not converge (empty if it did): too many
+  /// iterations, a non-finite residual, increment or force scale, or a
+  /// floor above floor_limit · force_scale.
+  std::string failure;
   [[nodiscard]] double final_residual() const { return residual_norms.empty() ? 0.0 : residual_norms.back(); }
 };
 
-/// Iterates until |r| ≤ residual_tolerance·force_scale or, after a solve,
-/// |Δ|∞ ≤ increment_tolerance·length_scale. Does not throw on
-/// non-convergence: the report says so, and the caller decides.
+/// Iterates until |r| ≤ max(residual_tolerance · force_scale, floor) with
+/// floor ≤ floor_limit · floor_scale. The residual criterion alone decides:
+/// a small increment never ends the iteration. Does not throw on
+/// non-convergence: the report says so and why, and the caller decides.
 /// `reusable`: the solver's current factorization belongs to a matrix of the
 /// same structure as this problem's tangent (used with reuse_factorization).
 NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const NewtonSettings& settings,

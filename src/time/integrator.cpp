@@ -53,20 +53,13 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     const solver::NewtonReport report =
         solver::solve_newton(problem, solver_, newton_, elimination.empty() && plain_factorization_);
     if (timings_.factorizations != factorizations) plain_factorization_ = elimination.empty();
-    if (!report.converged) {
-      std::string tail;  // the last residuals show stagnation or divergence
-      for (std::size_t k = report.residual_norms.size() > 6 ? report.residual_norms.size() - 6 : 0;
-           k < report.residual_norms.size(); ++k)
-        tail += fmt::format(" {:.2e}", report.residual_norms[k]);
-      throw SolverError(fmt::format(
-          "Newton did not converge in step {} (t = {:.6g} s) after {} iterations, last residuals{} N "
-          "(try a smaller time step or more [newton].max_iterations)",
-          state.step + 1, t_np1, report.iterations, tail));
-    }
+    if (!report.converged) throw SolverError(not_converged(report, state.step + 1, t_np1));
     total.converged = true;
     total.iterations += report.iterations;
     total.residual_norms = report.residual_norms;
-    if (contacts_) contacts_->set_constraints(elimination.constraints());  // ξ, facets moved by (60)–(64)
+    total.tolerance = report.tolerance;
+    total.floor = report.floor;
+    if (contacts_) contacts_->set_constraints(elimination.constraints());  // facets, ξ moved by the updates
     {
       solver::ScopedTimer timer(timings_.contact_search);
       again = contacts_ && contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
@@ -77,11 +70,44 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
           "({} activations, {} releases); raise [active_set].max_passes or reduce the time step",
           state.step + 1, t_np1, stats_.passes, stats_.activations, stats_.releases));
   }
+  check_orientation(u_np1, state.step + 1, t_np1);
+  if (contacts_) {
+    solver::ScopedTimer timer(timings_.contact_search);
+    stats_.max_penetration = contacts_->max_penetration(u_np1).depth;
+    const contact::ActiveGaps gaps = contacts_->active_gaps(u_np1);
+    stats_.min_active_gap = gaps.min;
+    stats_.max_active_gap = gaps.max;
+  }
   state.v = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
   state.u = std::move(u_np1);
   state.time = t_np1;
   ++state.step;
   return total;
+}
+
+template <int D>
+std::string Integrator<D>::not_converged(const solver::NewtonReport& report, std::int64_t step, double t) const {
+  std::string tail;  // the last residuals show stagnation or divergence
+  const auto& norms = report.residual_norms;
+  for (std::size_t k = norms.size() > 6 ? norms.size() - 6 : 0; k < norms.size(); ++k)
+    tail += fmt::format(" {:.2e}", norms[k]);
+  return fmt::format(
+      "Newton did not converge in step {} (t = {:.6g} s): {}; after {} iterations the last residuals are{} N "
+      "(tolerance {:.2e} N, round-off floor {:.2e} N) (try a smaller time step or more [newton].max_iterations)",
+      step, t, report.failure, report.iterations, tail, report.tolerance, report.floor);
+}
+
+// A converged step must not turn a cell inside out: SVK's energy does not
+// stop it (it stays finite through det F = 0), so the step is refused and
+// retried smaller.
+template <int D>
+void Integrator<D>::check_orientation(const Eigen::VectorXd& u, std::int64_t step, double t) const {
+  const assembly::Orientation o = assembler_.min_det_F(u);
+  if (o.cell < 0 || o.det_F > 0.0) return;
+  const auto& model = assembler_.model();
+  const auto& body = model.bodies[model.cell_body[o.cell]];
+  throw SolverError(fmt::format("cell {} of body '{}' is inverted at the end of step {} (t = {:.6g} s): det F = {:.3g}",
+                                o.cell - body.first_cell, body.name, step, t, o.det_F));
 }
 
 template class Integrator<2>;

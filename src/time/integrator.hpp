@@ -1,6 +1,9 @@
 #pragma once
 /// Advances the state step by step with the conserving mid-point scheme,
 /// reusing the tangent's pattern and UMFPACK's symbolic analysis.
+#include <cstdint>
+#include <string>
+
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
 #include "contact/active_set.hpp"
@@ -23,8 +26,9 @@ class Integrator {
   /// reduced system, the active-set update and, if the set changed, the same
   /// step again (ALGORITHM.md §7); then V_{n+1} = (2/Δt)Δu − V_n (19).
   /// The report's iterations count all passes. Throws SolverError naming
-  /// the step if Newton does not converge or the active set does not settle
-  /// in max_passes; the state is then left unchanged.
+  /// the step if Newton does not converge (and why), if the active set does
+  /// not settle in max_passes, or if a cell ends the step inverted
+  /// (det F ≤ 0, naming body and cell); the state is then left unchanged.
   solver::NewtonReport step(model::State& state, double dt);
 
   /// Forgets the factorization kept for reuse (reuse_factorization): at a
@@ -50,6 +54,9 @@ class Integrator {
   contact::StepContactStats stats_;
   solver::Timings timings_;
   bool plain_factorization_ = false;  ///< the solver holds a factorization of the unreduced system
+
+  [[nodiscard]] std::string not_converged(const solver::NewtonReport& report, std::int64_t step, double t) const;
+  void check_orientation(const Eigen::VectorXd& u, std::int64_t step, double t) const;
 };
 
 /// Puts the prescribed values u(t) on `u` and the rates on `v` (if given).

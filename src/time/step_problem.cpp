@@ -1,6 +1,12 @@
 #include "time/step_problem.hpp"
+#include <algorithm>
+#include <limits>
 
 namespace conserve::time {
+
+/// Residual round-off per unit magnitude: a few ε (ε = 2.2e-16), for the
+/// sums of a few terms per dof.
+constexpr double kRoundOff = 32 * 2.2e-16;
 
 template <int D>
 StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
@@ -18,15 +24,38 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
   inertia_n_ = momentum_term + assembler.gravity_force();
   Eigen::VectorXd f_n;
   assembler.internal_force(start.u, start.u, scheme, f_n);
-  force_scale_ = std::max({momentum_term.norm(), assembler.gravity_force().norm(), f_n.norm()});
+  start_scale_ = std::max({momentum_term.norm(), assembler.gravity_force().norm(), f_n.norm()});
+  force_scale_ = start_scale_;
+  magnitude_n_ = (2.0 / dt) * (assembler.mass() * start.v.cwiseAbs()) + assembler.gravity_force().cwiseAbs() +
+                 assembler.stiffness_scale();
+  energy_n_ = 0.25 * dt * start.v.dot(momentum_term) + assembler.strain_energy(start.u) +
+              std::abs(assembler.gravity_force().dot(start.u));
+}
+
+template <int D>
+double StepProblem<D>::floor_scale() const {
+  if (!(motion_ > 0.0)) return std::numeric_limits<double>::infinity();
+  return std::max(force_scale_, energy_n_ / motion_);
 }
 
 template <int D>
 void StepProblem<D>::residual(Eigen::VectorXd& r) {
   {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
-    assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_);
-    g_ = (2.0 / (dt_ * dt_)) * (assembler_.mass() * (u_np1_ - start_.u)) - inertia_n_ + f_int_;
+    assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_, &magnitude_);
+    du_ = u_np1_ - start_.u;
+    g_ = (2.0 / (dt_ * dt_)) * (assembler_.mass() * du_) - inertia_n_ + f_int_;
+    magnitude_ += (2.0 / (dt_ * dt_)) * (assembler_.mass() * du_.cwiseAbs()) + magnitude_n_;
+    mask_.apply(magnitude_);
+    floor_ = kRoundOff * magnitude_.norm();
+    Eigen::VectorXd free_motion = du_;  // the prescribed dofs' residual is masked: it does no work
+    mask_.apply(free_motion);
+    motion_ = free_motion.norm();
+    // The reactions of the prescribed dofs are external forces too: in a
+    // displacement-driven step they are the load.
+    double reactions = 0.0;
+    for (int d : mask_.dofs()) reactions += g_[d] * g_[d];
+    force_scale_ = std::max(start_scale_, std::sqrt(reactions));
   }
   if (eliminating()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));

@@ -28,8 +28,19 @@ class StepProblem final : public solver::NewtonProblem {
   void residual(Eigen::VectorXd& r) override;
   const SparseMatrix& tangent() override;
   void update(const Eigen::VectorXd& increment) override;
+  /// The largest of the inertia, load and elastic force norms at the start
+  /// of the step and of the prescribed dofs' reactions at the last residual.
   [[nodiscard]] double force_scale() const override { return force_scale_; }
-  [[nodiscard]] double length_scale() const override { return assembler_.model().size(); }
+  /// ε times the magnitudes the residual is a sum of (the cells' forces,
+  /// their unit-strain forces, inertia and loads), masked: |r| cannot be
+  /// computed more accurately than this [N].
+  [[nodiscard]] double residual_floor() const override { return floor_; }
+  /// The floor is judged by the energy error it can cause, |floor|·|Δu|
+  /// (Δu of the free dofs: the prescribed ones' residual is masked),
+  /// against the step's energy, max(K_n + W_n + |Π_n|, force_scale·|Δu|):
+  /// the force scale, or (K_n + W_n + |Π_n|)/|Δu| if larger (infinite when
+  /// nothing moves, since then no work is done).
+  [[nodiscard]] double floor_scale() const override;
   /// The full residual g at the last residual() call: on an active slave,
   /// the contact force it receives (33) [N].
   [[nodiscard]] const Eigen::VectorXd& full_residual() const { return g_; }
@@ -49,8 +60,12 @@ class StepProblem final : public solver::NewtonProblem {
   SparseMatrix K_reduced_;
   assembly::DirichletMask reduced_mask_;
   Eigen::VectorXd inertia_n_;  ///< (2/Δt) M V_n + f_ext: the constant part
-  Eigen::VectorXd f_int_, g_, du_;
-  double force_scale_ = 0.0;
+  Eigen::VectorXd magnitude_n_;  ///< (2/Δt) M |V_n| + |f_ext| + the unit-strain forces: constant magnitudes
+  Eigen::VectorXd f_int_, g_, du_, magnitude_;
+  double start_scale_ = 0.0, force_scale_ = 0.0;
+  double energy_n_ = 0.0;  ///< K_n + W_n + |Π_n| [J]
+  double motion_ = 0.0;    ///< |Δu| over the free dofs at the last residual [m]
+  double floor_ = 0.0;
   solver::Timings* timings_ = nullptr;
   double unused_ = 0.0;
   double& clock(double solver::Timings::*phase) { return timings_ ? timings_->*phase : unused_; }

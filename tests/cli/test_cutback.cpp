@@ -18,8 +18,11 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-/// A soft, strongly pre-stretched spinning box with Δt far too large for
-/// 5 Newton iterations: the first steps need Δt/2 or Δt/8.
+/// A soft, pre-stretched spinning box with Δt far too large for 5 Newton
+/// iterations: the first steps need Δt/2 or Δt/8. (Stretched by 1.3, or
+/// stiffer, its Saint Venant–Kirchhoff cells are compressed past their
+/// limit point as it rebounds and turn inside out: a step that ends so
+/// fails, issue 11.)
 const std::string kStiffStep = R"(dimension = 3
 [time]
 step = 0.05
@@ -32,9 +35,9 @@ vtu_every = 2
 name = "box"
 velocity = [1.0, 0.5, 0.0]
 angular_velocity = [0.5, 1.0, 3.0]
-initial_deformation = [[1.3, 0.05, 0.0], [0.0, 0.85, 0.0], [0.0, 0.0, 1.0]]
+initial_deformation = [[1.2, 0.05, 0.0], [0.0, 0.85, 0.0], [0.0, 0.0, 1.0]]
 [body.material]
-young = 5.0e4
+young = 1.0e5
 poisson = 0.3
 density = 1000.0
 [body.mesh]

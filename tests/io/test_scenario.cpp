@@ -26,7 +26,6 @@ TEST(Scenario, Full3dScenarioParsesEveryField) {
   EXPECT_EQ(s.time.mass, MassKind::lumped);
   EXPECT_EQ(s.newton.max_iterations, 30);
   EXPECT_EQ(s.newton.residual_tolerance, 1e-10);
-  EXPECT_EQ(s.newton.increment_tolerance, 1e-11);
   EXPECT_EQ(s.gravity, Eigen::Vector3d(0, 0, -9.81));
   EXPECT_EQ(s.output.directory, fs::path("results/full"));
   EXPECT_EQ(s.output.vtu_every, 5);
@@ -130,7 +129,6 @@ TEST(Scenario, DefaultsApplied) {
   EXPECT_EQ(s.time.mass, MassKind::consistent);
   EXPECT_EQ(s.newton.max_iterations, 20);
   EXPECT_EQ(s.newton.residual_tolerance, 1e-12);
-  EXPECT_EQ(s.newton.increment_tolerance, 1e-13);
   EXPECT_EQ(s.gravity, Eigen::Vector3d::Zero());
   EXPECT_EQ(s.output.directory, fs::path("out"));
   EXPECT_EQ(s.output.vtu_every, 10);

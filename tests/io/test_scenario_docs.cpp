@@ -124,7 +124,6 @@ TEST(ScenarioKeys, DeclaredDefaultsEqualStructDefaults) {
   EXPECT_EQ(s.time.mass, plain.time.mass);
   EXPECT_EQ(s.newton.max_iterations, plain.newton.max_iterations);
   EXPECT_EQ(s.newton.residual_tolerance, plain.newton.residual_tolerance);
-  EXPECT_EQ(s.newton.increment_tolerance, plain.newton.increment_tolerance);
   EXPECT_EQ(s.output.directory, plain.output.directory);
   EXPECT_EQ(s.output.vtu_every, plain.output.vtu_every);
   EXPECT_EQ(s.output.progress_every, plain.output.progress_every);

@@ -122,8 +122,9 @@ TEST(ScenarioErrors, NewtonAndOutputRanges) {
                          "0 is out of range (expected an integer ≥ 1)"));
   EXPECT_TRUE(
       fails_with(minimal("[newton]\nresidual_tolerance = 0\n"), 13, "newton.residual_tolerance", "out of range"));
-  EXPECT_TRUE(
-      fails_with(minimal("[newton]\nincrement_tolerance = -1\n"), 13, "newton.increment_tolerance", "out of range"));
+  EXPECT_TRUE(fails_with(minimal("[newton]\nincrement_tolerance = 1e-13\n"), 13, "newton.increment_tolerance",
+                         "'increment_tolerance' is no longer a key (expected removed: Newton converges on the residual "
+                         "only"));
   EXPECT_TRUE(fails_with(minimal("[output]\nvtu_every = -1\n"), 13, "output.vtu_every", "expected an integer ≥ 0"));
   EXPECT_TRUE(fails_with(minimal("[output]\nprogress_every = -2\n"), 13, "output.progress_every", "out of range"));
   EXPECT_TRUE(fails_with(minimal("[output]\nvtu_every = 99999999999\n"), 13, "output.vtu_every", "too large"));

@@ -29,8 +29,8 @@ struct ContactRun {
                                                        simulation::make_contact_pairs<D>(scenario, problem.model));
     integrator = std::make_unique<time::Integrator<D>>(
         *assembler, fem::StressScheme::conserving,
-        solver::NewtonSettings{scenario.newton.max_iterations, scenario.newton.residual_tolerance,
-                               scenario.newton.increment_tolerance},
+        solver::NewtonSettings{.max_iterations = scenario.newton.max_iterations,
+                               .residual_tolerance = scenario.newton.residual_tolerance},
         contacts.get(), scenario.active_set.max_passes);
     state = problem.initial;
   }

@@ -180,3 +180,134 @@ kind = "frictionless"
 }
 
 }  // namespace conserve::test
+
+namespace conserve::test {
+
+/// A small elastic disc (2D) thrown along the inside of a spinning free elastic
+/// ring, no gravity, nothing fixed: it slides around the ring's concave inner
+/// surface across many of its facets, pressed on it by its own centripetal
+/// force. Everything free, so E, L and J are all conserved.
+inline std::string disc_inside_ring(const std::string& kind, double step, double end) {
+  return R"(dimension = 2
+[time]
+step = )" + std::to_string(step) +
+         R"(
+end = )" + std::to_string(end) +
+         R"(
+[[body]]
+name = "disc"
+translate = [0.0, -0.196]
+velocity = [5.0, -0.3]
+angular_velocity = -30.0
+[body.material]
+young = 2.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.1
+size = 0.025
+[[body]]
+name = "ring"
+angular_velocity = -15.0
+[body.material]
+young = 2.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "annulus"
+inner_radius = 0.3
+outer_radius = 0.4
+size = 0.05
+[[contact]]
+slave = "disc"
+master = "ring:inner"
+kind = ")" + kind + R"("
+)";
+}
+
+/// Two spinning elastic spheres in an oblique glancing hit (3D, free): the
+/// slaves slide across the facets of the other sphere while both rotate.
+inline std::string spinning_spheres(const std::string& kind, double step, double end) {
+  return R"(dimension = 3
+[time]
+step = )" + std::to_string(step) +
+         R"(
+end = )" + std::to_string(end) +
+         R"(
+[[body]]
+name = "small"
+translate = [-0.24, 0.09, 0.0]
+velocity = [2.0, 0.0, 0.0]
+angular_velocity = [10.0, 20.0, 30.0]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "sphere"
+radius = 0.1
+size = 0.05
+[[body]]
+name = "big"
+angular_velocity = [-20.0, 10.0, 5.0]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "sphere"
+radius = 0.15
+size = 0.06
+[[contact]]
+slave = "small"
+master = "big"
+kind = ")" + kind + R"("
+)";
+}
+
+/// A hollow elastic disc (2D, an annulus) thrown onto a rigid floor (a bare
+/// segment) at 4 m/s along x under gravity: it lands, rolls with full stick
+/// and hops; `step` is Δt [s]. At the largest Δt its impacts take Newton
+/// up to ~30 iterations from the constant-velocity predictor.
+inline std::string disc_rolling_on_floor(double step, double end) {
+  return R"(dimension = 2
+[time]
+step = )" + std::to_string(step) +
+         R"(
+end = )" + std::to_string(end) +
+         R"(
+[newton]
+max_iterations = 40
+[loads]
+gravity = [0.0, -9.81]
+[[body]]
+name = "disc"
+translate = [0.0, 0.2005]
+velocity = [4.0, -0.5]
+angular_velocity = -5.0
+[body.material]
+young = 1.0e6
+poisson = 0.45
+density = 1000.0
+[body.mesh]
+generator = "annulus"
+inner_radius = 0.1
+outer_radius = 0.2
+size = 0.02
+[[body]]
+name = "floor"
+rigid = true
+translate = [1.5, 0.0]
+[body.mesh]
+generator = "segment"
+lx = 5.0
+size = 0.25
+[[contact]]
+slave = "disc:outer"
+master = "floor:surface"
+kind = "stick"
+)";
+}
+
+}  // namespace conserve::test

@@ -65,17 +65,11 @@ double reduced_tangent_error(ContactRun<D>& run) {
   return err / scale;
 }
 
-/// Gap of every active slave on its master facet at the end of the step.
+/// The deepest slave behind its master at the end of the step, active or
+/// not, by the activation search's rules [m].
 template <int D>
-double min_active_gap(const ContactRun<D>& run) {
-  const contact::Positions<D> x = run.positions();
-  double g = 1e300;
-  for (const auto& c : run.contacts->constraints()) {
-    contact::FacetNodes<D> xm;
-    for (int a = 0; a < D; ++a) xm.col(a) = x.col(c.master[a]);
-    g = std::min(g, contact::project<D>(x.col(c.slave), xm).gap);
-  }
-  return g;
+double max_penetration(ContactRun<D>& run) {
+  return run.contacts->max_penetration(run.state.u).depth;
 }
 
 }  // namespace conserve::test

@@ -66,15 +66,19 @@ struct Impact {
 
 /// The first impact received by bar `k` (k ≥ 1) from the left: from the
 /// first to the last step that moved momentum into it, before it starts to
-/// pass momentum on (a step without transfer inside the contact, when
-/// chatter released every slave, does not end it).
+/// pass momentum on to bar k+1 (a step without transfer inside the
+/// contact, when chatter released every slave, does not end it; nor, for
+/// the last bar, which has no one to pass momentum on to, does a step that
+/// gives some back, as when slaves re-activated after a release are held
+/// with a tensile force for that step).
 inline Impact first_impact(const BarHistory& h, const Bars& bars, int k) {
   const double threshold = 1e-6 * bars.mass() * bars.v0;
+  const bool passes_on = k + 1 < bars.count;
   Impact imp;
   int first = -1, last = -1;
   for (std::size_t n = 1; n < h.time.size(); ++n) {
     const double dl = h.momentum[n][k] - h.momentum[n - 1][k];
-    if (first >= 0 && dl < -threshold) break;  // bar k hits bar k+1
+    if (first >= 0 && passes_on && dl < -threshold) break;  // bar k hits bar k+1
     if (dl > threshold) {
       if (first < 0) first = static_cast<int>(n);
       last = static_cast<int>(n);

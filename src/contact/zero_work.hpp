@@ -1,0 +1,250 @@
+#pragma once
+/// Contact forces that do no work over a step while the slave keeps its
+/// gap (docs/theory.md, "No slave behind its master"). A slave in contact
+/// holds its gap γ at the END of every step exactly (position level, so it
+/// never ends behind its master); the contact force is given a direction
+/// ā that is orthogonal to the step's actual motion of the constraint's
+/// nodes, so its work, and hence the energy error, vanish exactly; ā sums
+/// to zero and has no moment about the mid-point configuration, so linear
+/// and angular momentum are conserved as in the paper's §5.
+///
+/// Frictionless (replaces the paper's mid-point condition (48)): with the
+/// slave s and the nodes b of the mid-point facet, a = (n, −N_b n) is the
+/// gradient of the gap at the mid-point configuration (the paper's force
+/// direction, (55)–(56)); w = PΔx is the part of the nodes' displacement
+/// that is not a rigid motion about the mid-point positions; then
+///   ā = a + β w,  β = −(a·Δx)/(w·w),   so ā·Δx = 0.
+/// a·Δx is what the paper's (48) sets to zero: ā = a whenever (48) holds.
+///
+/// Stick: the slave is the point x_s = F(x_m) = N(ξ̄) x_m + γ n(x_m) of its
+/// facet's frame; the master receives −Aᵀ f, with A the secant of F:
+///   A = ∂F/∂x_m(x_m,n+½) + R (P_t Δx_m)ᵀ/|P_t Δx_m|²,  R = Δx_s − ∂F/∂x_m Δx_m,
+/// so A Δx_m = Δx_s (no work) and Σ_b A_b = 1 (linear momentum); with
+/// γ = 0, F is linear and A = N(ξ̄) ⊗ 1, the paper's (41).
+///
+/// Every function is templated on the scalar so that the reduced tangent's
+/// variation terms are obtained by automatic differentiation
+/// (unsupported/Eigen/AutoDiff).
+#include <Eigen/Dense>
+
+#include "contact/facet.hpp"
+
+namespace conserve::contact::zero_work {
+
+template <int D, class S>
+using V = Eigen::Matrix<S, D, 1>;
+/// Positions of a constraint's nodes: column 0 the slave, 1…D the facet's.
+template <int D, class S>
+using Nodes = Eigen::Matrix<S, D, D + 1>;
+/// Positions of a facet's D nodes.
+template <int D, class S>
+using Facet = Eigen::Matrix<S, D, D>;
+/// ∂(one point)/∂(a facet's node positions): D × D², column b·D + i.
+template <int D, class S>
+using FacetJacobian = Eigen::Matrix<S, D, D * D>;
+
+/// Round-off level of the work a·Δx (or of the stick defect R): relative to
+/// the displacements (the sum's own round-off) and absolute, relative to
+/// the positions (the displacements of slaves placed on their constraint
+/// carry the round-off of the positions). Below it the value is noise,
+/// which the correction, divided by the small w·w, would amplify into the
+/// force direction (and Newton's residual). The correction is therefore
+/// weighted by s = t²/(1 + t²), t = |a·Δx| / noise: s ≈ 1 for real work,
+/// s ≈ 0 for noise; the work it leaves out, (1 − s) a·Δx, is below the
+/// noise: noise = |a| (kRoundOff |Δx| + kPositionRoundOff |x|).
+inline constexpr double kRoundOff = 1e-13;
+inline constexpr double kPositionRoundOff = 1e-15;
+
+/// The weight s of the correction for a work (defect) whose square is
+/// `value2` and whose round-off level is `noise`.
+template <class S>
+S correction_weight(const S& value2, const S& noise) {
+  if (!(noise > 0.0)) return S(0.0);
+  const S t2 = value2 / (noise * noise);
+  return t2 / (S(1.0) + t2);
+}
+
+/// Unnormalised outward normal: τ_ξ × τ_η (3D) or (τ_y, −τ_x) (2D).
+template <int D, class S>
+V<D, S> raw_normal(const Facet<D, S>& x) {
+  if constexpr (D == 3) {
+    return (x.col(1) - x.col(0)).cross(x.col(2) - x.col(0));
+  } else {
+    const V<2, S> t = x.col(1) - x.col(0);
+    return V<2, S>(t(1), -t(0));
+  }
+}
+
+/// Facet normal, tangents and the projection ξ of point p on its plane.
+template <int D, class S>
+struct Plane {
+  Eigen::Matrix<S, D - 1, 1> xi;
+  V<D, S> normal;
+  Eigen::Matrix<S, D, D - 1> tangents;
+  S gap;
+};
+
+template <int D, class S>
+Plane<D, S> project_on_plane(const V<D, S>& p, const Facet<D, S>& x) {
+  Plane<D, S> out;
+  out.tangents = x.template rightCols<D - 1>().colwise() - x.col(0);
+  out.normal = raw_normal<D, S>(x).normalized();
+  const Eigen::Matrix<S, D - 1, D - 1> G = out.tangents.transpose() * out.tangents;
+  out.xi = G.inverse() * (out.tangents.transpose() * (p - x.col(0)));
+  out.gap = (p - x.col(0)).dot(out.normal);
+  return out;
+}
+
+/// N_0 = 1 − Σξ, N_k = ξ_k.
+template <int D, class S>
+V<D, S> shape(const Eigen::Matrix<S, D - 1, 1>& xi) {
+  V<D, S> N;
+  N(0) = S(1.0) - xi.sum();
+  N.template tail<D - 1>() = xi;
+  return N;
+}
+
+/// w = P Δx: Δx minus its least-squares rigid motion t + ω × (y − c) about
+/// the centroid c of the positions y (columns are nodes). Σ w = 0 and
+/// Σ (y − c) × w = 0: w carries neither force nor moment.
+template <int D, int K, class S>
+Eigen::Matrix<S, D, K> non_rigid_part(const Eigen::Matrix<S, D, K>& y, const Eigen::Matrix<S, D, K>& dx) {
+  const V<D, S> c = y.rowwise().mean();
+  const V<D, S> t = dx.rowwise().mean();
+  Eigen::Matrix<S, D, K> r = y.colwise() - c, w = dx.colwise() - t;
+  if constexpr (D == 3) {
+    Eigen::Matrix<S, 3, 3> inertia = Eigen::Matrix<S, 3, 3>::Zero();
+    V<3, S> moment = V<3, S>::Zero();
+    for (int a = 0; a < K; ++a) {
+      inertia += r.col(a).squaredNorm() * Eigen::Matrix<S, 3, 3>::Identity() - r.col(a) * r.col(a).transpose();
+      moment += r.col(a).cross(w.col(a));
+    }
+    const V<3, S> omega = inertia.inverse() * moment;
+    for (int a = 0; a < K; ++a) w.col(a) -= omega.cross(r.col(a));
+  } else {
+    S inertia(0.0), moment(0.0);
+    for (int a = 0; a < K; ++a) {
+      inertia += r.col(a).squaredNorm();
+      moment += r(0, a) * w(1, a) - r(1, a) * w(0, a);
+    }
+    const S omega = moment / inertia;
+    for (int a = 0; a < K; ++a) w.col(a) -= omega * V<2, S>(-r(1, a), r(0, a));
+  }
+  return w;
+}
+
+/// Frictionless: the zero-work force direction ā on (slave, facet nodes)
+/// for the step that ends at positions x with displacements dx = x − x_n
+/// (given separately: from displacement differences they are exact, from
+/// position differences they would lose ε|x| to cancellation, which the
+/// small denominator w·w would amplify), with the facet's mid-point
+/// projection `mid` (ξ_{n+½}, n_{n+½}, τ_{n+½}).
+template <int D, class S>
+Nodes<D, S> frictionless_direction(const Nodes<D, S>& x, const Nodes<D, S>& dx, Plane<D, S>& mid) {
+  const Nodes<D, S> y = x - S(0.5) * dx;
+  mid = project_on_plane<D, S>(y.col(0), y.template rightCols<D>());
+  const V<D, S> N = shape<D, S>(mid.xi);
+  Nodes<D, S> a;
+  a.col(0) = mid.normal;
+  for (int b = 0; b < D; ++b) a.col(b + 1) = -N(b) * mid.normal;
+  const Nodes<D, S> w = non_rigid_part<D, D + 1, S>(y, dx);
+  const S ww = w.squaredNorm();
+  if (!(ww > 0.0)) return a;  // a rigid motion: a·Δx = 0 already
+  const S work = a.cwiseProduct(dx).sum();
+  const S noise = a.norm() * (S(kRoundOff) * dx.norm() + S(kPositionRoundOff) * x.norm());
+  const S weight = correction_weight<S>(work * work, noise);
+  return a - (weight * work / ww) * w;
+}
+
+/// Slave parts of a frictionless constraint's test columns (the reduced
+/// residual is r = Wᵀ g): for master dof (b, i) of the mid-point facet,
+/// column b·D + i of `master`; for slip j, column j of `slip`. Chosen so
+/// that Wᵀg = 0 holds exactly when the residual on (slave, facet nodes) is
+/// parallel to ā; with ā = a they are the paper's N_b e_i and τ_j (56).
+template <int D, class S>
+struct TestColumns {
+  FacetJacobian<D, S> master;
+  Eigen::Matrix<S, D, D - 1> slip;
+};
+
+template <int D, class S>
+TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx) {
+  Plane<D, S> mid;
+  const Nodes<D, S> abar = frictionless_direction<D, S>(x, dx, mid);
+  const V<D, S> as = abar.col(0);
+  const S as2 = as.squaredNorm();
+
+  const V<D, S> N = shape<D, S>(mid.xi);
+  TestColumns<D, S> t;
+  for (int b = 0; b < D; ++b)
+    for (int i = 0; i < D; ++i) {
+      V<D, S> c = V<D, S>::Zero();
+      c(i) = N(b);
+      t.master.col(b * D + i) = c - ((N(b) * as(i) + abar(i, b + 1)) / as2) * as;
+    }
+  for (int j = 0; j < D - 1; ++j)
+    t.slip.col(j) = mid.tangents.col(j) - (as.dot(mid.tangents.col(j)) / as2) * as;
+
+  return t;
+}
+
+/// Stick: the slave's position F(x_m) = N(ξ̄) x_m + γ n(x_m).
+template <int D, class S>
+V<D, S> stick_position(const Facet<D, S>& xm, const Xi<D>& xi, double gamma) {
+  const V<D, S> N = shape<D, S>(xi.template cast<S>());
+  return xm * N + S(gamma) * raw_normal<D, S>(xm).normalized();
+}
+
+/// ∂F/∂x_m = N_b 1 + γ ∂n/∂x_b, with δn = (1 − n nᵀ) δc/|c| for the raw
+/// normal c (3D: ∂c/∂x_1 = −[τ_η]×, ∂c/∂x_2 = [τ_ξ]×, ∂c/∂x_0 = −the sum).
+template <int D, class S>
+FacetJacobian<D, S> stick_jacobian(const Facet<D, S>& xm, const Xi<D>& xi, double gamma) {
+  const V<D, S> N = shape<D, S>(xi.template cast<S>());
+  const V<D, S> c = raw_normal<D, S>(xm);
+  const S length = c.norm();
+  const V<D, S> n = c / length;
+  const Eigen::Matrix<S, D, D> projector =
+      (Eigen::Matrix<S, D, D>::Identity() - n * n.transpose()) * (S(gamma) / length);
+  std::array<Eigen::Matrix<S, D, D>, D> dc;  // ∂c/∂x_b
+  if constexpr (D == 3) {
+    auto cross_matrix = [](const V<3, S>& v) {
+      Eigen::Matrix<S, 3, 3> m;
+      m << S(0.0), -v(2), v(1), v(2), S(0.0), -v(0), -v(1), v(0), S(0.0);
+      return m;
+    };
+    dc[1] = -cross_matrix(xm.col(2) - xm.col(0));
+    dc[2] = cross_matrix(xm.col(1) - xm.col(0));
+  } else {
+    dc[1] << S(0.0), S(1.0), S(-1.0), S(0.0);
+  }
+  dc[0] = -dc[1];
+  if constexpr (D == 3) dc[0] -= dc[2];
+  FacetJacobian<D, S> J;
+  for (int b = 0; b < D; ++b)
+    J.template block<D, D>(0, b * D) = N(b) * Eigen::Matrix<S, D, D>::Identity() + projector * dc[b];
+  return J;
+}
+
+/// Stick: the secant test matrix A (D × D²) of the step that ends at
+/// master positions xm with displacements dxm (exact, as for
+/// frictionless_direction), the slave going to F(xm); `offset` is
+/// x_s,n − F(x_m,n), the slave's start off its frozen point (round-off).
+/// The master rows of the reduced residual are g_m + Aᵀ g_s.
+template <int D, class S>
+FacetJacobian<D, S> stick_test(const Facet<D, S>& xm, const Facet<D, S>& dxm, const Facet<D, double>& xm_n,
+                               const Vec<D>& offset, const Xi<D>& xi, double gamma) {
+  FacetJacobian<D, S> A = stick_jacobian<D, S>(Facet<D, S>(xm - S(0.5) * dxm), xi, gamma);
+  const Eigen::Matrix<S, D, D> w = dxm.colwise() - dxm.rowwise().mean();  // P_t Δx_m: no translation
+  const S ww = w.squaredNorm();
+  if (!(ww > 0.0)) return A;  // a translation: F moves with it
+  // Δx_s = F(x_m) − x_s,n = N Δx_m + γ (n(x_m) − n(x_m,n)) − offset, free of cancellation.
+  const V<D, S> dn = raw_normal<D, S>(xm).normalized() - raw_normal<D, double>(xm_n).normalized().template cast<S>();
+  const V<D, S> dxs = dxm * shape<D, S>(xi.template cast<S>()) + S(gamma) * dn - offset.template cast<S>();
+  const V<D, S> R = dxs - A * dxm.reshaped();
+  const S noise =
+      S(kRoundOff) * (dxs.norm() + A.norm() * dxm.norm()) + S(kPositionRoundOff) * (S(1.0) + A.norm()) * xm.norm();
+  const S weight = correction_weight<S>(R.squaredNorm(), noise);
+  return A + (weight / ww) * R * w.reshaped().transpose();
+}
+
+}  // namespace conserve::contact::zero_work
