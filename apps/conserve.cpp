@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string scenario_file, output_dir, restart_file;
   bool quiet = false;
-  int steps = -1;
+  std::int64_t steps = -1;
   int blas_threads = 1;
   CLI::App* run = app.add_subcommand("run", "run a scenario, writing history.csv and ParaView output");
   run->add_option("scenario", scenario_file, "scenario file (TOML)")->required();

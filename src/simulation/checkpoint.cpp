@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cstring>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string_view>
 #include <system_error>
@@ -16,7 +16,8 @@ namespace conserve::simulation {
 namespace {
 
 constexpr std::string_view kMagic = "conserve-checkpoint";
-constexpr std::uint32_t kVersion = 1;
+/// 2: 64-bit step and counters.
+constexpr std::uint32_t kVersion = 2;
 
 /// FNV-1a over raw bytes.
 class Hasher {
@@ -132,8 +133,8 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.doubles(t.angular_drift.data(), 3);
   w.value(t.newton_iterations);
   w.value(static_cast<std::int32_t>(t.max_newton_iterations));
-  w.value(static_cast<std::int32_t>(t.activations));
-  w.value(static_cast<std::int32_t>(t.releases));
+  w.value(static_cast<std::int64_t>(t.activations));
+  w.value(static_cast<std::int64_t>(t.releases));
   w.value(t.max_activation_gap);
 }
 
@@ -144,8 +145,8 @@ RunTotals read_totals(Reader& r) {
   r.doubles(t.angular_drift.data(), 3, "the angular drift");
   t.newton_iterations = r.value<double>();
   t.max_newton_iterations = r.value<std::int32_t>();
-  t.activations = r.value<std::int32_t>();
-  t.releases = r.value<std::int32_t>();
+  t.activations = r.value<std::int64_t>();
+  t.releases = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
   return t;
 }
@@ -202,23 +203,23 @@ std::uint64_t scenario_hash(const io::Scenario& sc, const model::Model<D>& model
   return h.get();
 }
 
-std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step) {
+std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, std::int64_t step) {
   return output_directory / "checkpoints" / fmt::format("ckpt_{:06d}.bin", step);
 }
 
-int prune_checkpoints(const std::filesystem::path& output_directory, int current_step, int keep) {
+int prune_checkpoints(const std::filesystem::path& output_directory, std::int64_t current_step, int keep) {
   if (keep <= 0) return 0;
   const auto folder = output_directory / "checkpoints";
-  std::vector<int> older;
+  std::vector<std::int64_t> older;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
-    // "ckpt_" + six to nine digits + ".bin"
-    if (name.size() < 15 || name.size() > 18 || !name.starts_with("ckpt_") || !name.ends_with(".bin")) continue;
+    // "ckpt_" + six to eighteen digits + ".bin"
+    if (name.size() < 15 || name.size() > 27 || !name.starts_with("ckpt_") || !name.ends_with(".bin")) continue;
     const std::string digits = name.substr(5, name.size() - 9);
     if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
-    const long step = std::stol(digits);
-    if (step < current_step) older.push_back(static_cast<int>(step));
+    const std::int64_t step = std::stoll(digits);
+    if (step < current_step) older.push_back(step);
   }
   std::sort(older.begin(), older.end(), std::greater<>());
   int deleted = 0;
@@ -235,13 +236,13 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(kVersion);
   w.value(static_cast<std::int32_t>(D));
   w.value(c.scenario_hash);
-  w.value(static_cast<std::int32_t>(c.state.step));
+  w.value(static_cast<std::int64_t>(c.state.step));
   w.value(c.state.time);
   w.doubles(c.state.u.data(), c.state.u.size());
   w.doubles(c.state.v.data(), c.state.v.size());
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
-  w.value(static_cast<std::int32_t>(c.control.cutbacks));
+  w.value(static_cast<std::int64_t>(c.control.cutbacks));
   write_totals(w, c.totals);
   w.value(static_cast<std::uint64_t>(c.constraints.size()));
   for (const auto& constraint : c.constraints) write_constraint<D>(w, constraint);
@@ -267,13 +268,17 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t e
   std::string magic(r.value<std::size_t>() == kMagic.size() ? kMagic.size() : 0, ' ');
   for (char& ch : magic) ch = r.value<char>();
   if (magic != kMagic) r.fail("not a conserve checkpoint");
-  if (r.value<std::uint32_t>() != kVersion) r.fail("written by another version of conserve");
+  if (const auto version = r.value<std::uint32_t>(); version != kVersion)
+    r.fail(
+        fmt::format("format version {}, this conserve reads version {} only (restart with the conserve that "
+                    "wrote it, or run from the start)",
+                    version, kVersion));
   if (r.value<std::int32_t>() != D) r.fail(fmt::format("not of a {}D scenario", D));
   Checkpoint<D> c;
   c.scenario_hash = r.value<std::uint64_t>();
   if (c.scenario_hash != expected_hash)
     r.fail("written by another scenario (model, time step, solver or contact settings differ)");
-  c.state.step = r.value<std::int32_t>();
+  c.state.step = r.value<std::int64_t>();
   c.state.time = r.value<double>();
   c.state.u.resize(model.num_dofs());
   c.state.v.resize(model.num_dofs());
@@ -281,13 +286,13 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t e
   r.doubles(c.state.v.data(), c.state.v.size(), "the velocity");
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
-  c.control.cutbacks = r.value<std::int32_t>();
+  c.control.cutbacks = r.value<std::int64_t>();
   c.totals = read_totals(r);
   const auto count = r.value<std::uint64_t>();
   if (count > static_cast<std::uint64_t>(model.num_nodes())) r.fail("more constraints than nodes");
   for (std::uint64_t i = 0; i < count; ++i) c.constraints.push_back(read_constraint<D>(r, model.num_nodes()));
   if (!r.at_end()) r.fail("trailing bytes after the constraints");
-  if (c.state.step < 0 || !(c.control.dt > 0.0)) r.fail("bad step or step size");
+  if (c.state.step < 0 || c.control.cutbacks < 0 || !(c.control.dt > 0.0)) r.fail("bad step or step size");
   return c;
 }
 

@@ -21,8 +21,8 @@ struct RunTotals {
   Vec3 angular_drift = Vec3::Zero();
   double newton_iterations = 0.0;  ///< sum over the steps
   int max_newton_iterations = 0;
-  int activations = 0;
-  int releases = 0;
+  std::int64_t activations = 0;
+  std::int64_t releases = 0;
   double max_activation_gap = 0.0;
 };
 
@@ -30,9 +30,9 @@ struct RunTotals {
 /// the scenario's Δt) after `kGrowAfter` good steps in a row.
 struct StepControl {
   static constexpr int kGrowAfter = 4;
-  double dt = 0.0;     ///< the step size to try next [s]
-  int good_steps = 0;  ///< converged steps since the last change of dt
-  int cutbacks = 0;    ///< failed attempts over the run
+  double dt = 0.0;            ///< the step size to try next [s]
+  int good_steps = 0;         ///< converged steps since the last change of dt
+  std::int64_t cutbacks = 0;  ///< failed attempts over the run
 };
 
 template <int D>
@@ -54,15 +54,15 @@ struct Checkpoint {
 template <int D>
 std::uint64_t scenario_hash(const io::Scenario& scenario, const model::Model<D>& model);
 
-/// "DIR/checkpoints/ckpt_NNNNNN.bin".
-std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step);
+/// "DIR/checkpoints/ckpt_NNNNNN.bin" (six digits or more).
+std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, std::int64_t step);
 
 /// Deletes the checkpoints DIR/checkpoints/ckpt_NNNNNN.bin of steps below
 /// `current_step` except the newest `keep` - 1 of them, so that with the one
 /// of `current_step` `keep` remain. Checkpoints of later steps (left by an
 /// earlier, longer run) and other files are not touched. keep = 0: none is
 /// deleted. Returns how many were deleted.
-int prune_checkpoints(const std::filesystem::path& output_directory, int current_step, int keep);
+int prune_checkpoints(const std::filesystem::path& output_directory, std::int64_t current_step, int keep);
 
 /// Writes the checkpoint atomically (temporary file, then rename), creating
 /// the folder. Throws Error.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <memory>
 
 #include "core/error.hpp"
@@ -19,9 +20,11 @@
 namespace conserve::simulation {
 namespace {
 
-int step_count(const io::TimeSpec& t) {
+/// end / step, rounded up (unless within round-off of an integer); the
+/// parser keeps it at most 2^53.
+std::int64_t step_count(const io::TimeSpec& t) {
   const double n = t.end / t.step;
-  return static_cast<int>(std::abs(n - std::round(n)) < 1e-9 * n ? std::round(n) : std::ceil(n));
+  return static_cast<std::int64_t>(std::abs(n - std::round(n)) < 1e-9 * n ? std::round(n) : std::ceil(n));
 }
 
 /// Running maxima of the relative drifts against the initial values.
@@ -152,10 +155,9 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     io::resume_history(dir / "steps.csv", state.step);
   }
   OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contacts.empty() ? nullptr : &contacts,
-                         sc.output.contact_state,
-                         options.restart ? std::optional<double>(state.time) : std::nullopt);
+                         sc.output.contact_state, options.restart ? std::optional<double>(state.time) : std::nullopt);
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
-  const int max_steps = options.max_steps.value_or(1 << 30);
+  const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
     output.write(state, d0, StepRecord{}, finished(sc.time, state) || max_steps == 0);
     steps_csv.write_row({0.0, state.time, 0.0, 0.0});
@@ -169,8 +171,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   ProgressLine progress(options.progress, sc.output.progress_every);
   const double start_time = state.time;
   summary.min_dt = control.dt;
-  const int first_cutbacks = control.cutbacks;
-  int taken = 0;
+  const std::int64_t first_cutbacks = control.cutbacks;
+  std::int64_t taken = 0;
   for (; taken < max_steps && !finished(sc.time, state); ++taken) {
     double dt = 0.0;
     int failures = 0;
@@ -210,23 +212,23 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     // This invocation ends at the end time or after max_steps, whichever
     // comes first; the steps left are estimated at the current Δt.
     const double by_time = (state.time - start_time) / (sc.time.end - start_time);
-    const double by_steps = static_cast<double>(taken + 1) / max_steps;
-    const long left_by_time = std::lround(std::ceil((sc.time.end - state.time) / control.dt - 1e-6));
-    const long left = last ? 0 : std::max(1L, std::min(left_by_time, long{max_steps} - taken - 1));
-    progress.update({.step = state.step,
-                     .expected_steps = static_cast<int>(state.step + left),
-                     .time = state.time,
-                     .fraction = last ? 1.0 : std::clamp(std::max(by_time, by_steps), 0.0, 1.0),
-                     .energy_drift = e,
-                     .newton_iterations = record.newton.iterations,
-                     .last = last});
+    const double by_steps = static_cast<double>(taken + 1) / static_cast<double>(max_steps);
+    progress.update(
+        {.step = state.step,
+         .expected_steps = state.step + steps_left(state.time, sc.time.end, control.dt, taken + 1, max_steps, last),
+         .time = state.time,
+         .fraction = last ? 1.0 : std::clamp(std::max(by_time, by_steps), 0.0, 1.0),
+         .energy_drift = e,
+         .newton_iterations = record.newton.iterations,
+         .last = last});
   }
   progress.finish();
   summary.steps = taken;
   summary.energy_drift = totals.energy_drift;
   summary.linear_drift = totals.linear_drift;
   summary.angular_drift = totals.angular_drift;
-  summary.mean_newton_iterations = totals.newton_iterations / std::max(state.step, 1);
+  summary.mean_newton_iterations =
+      totals.newton_iterations / static_cast<double>(std::max<std::int64_t>(state.step, 1));
   summary.max_newton_iterations = totals.max_newton_iterations;
   summary.activations = totals.activations;
   summary.releases = totals.releases;
