@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every build, test, plotting and benchmark dependency of conserve
-# from Debian 12 packages (`time` is GNU time, for bench/run_paper.sh).
+# from Debian 12 packages (`time` is GNU time, for bench/run_paper.sh;
+# python3-vtk9 and python3-meshio read the VTU output in the tests).
 # Idempotent: packages already present are skipped by apt, and the package
 # index is refreshed only when something is missing.
 set -euo pipefail
@@ -12,6 +13,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  python3-vtk9 python3-meshio
   time
 )
 

@@ -1,6 +1,7 @@
 #pragma once
 /// What a run writes: the per-step CSV history and VTU snapshots with a
-/// PVD time series (points are the current configuration).
+/// PVD time series (points are the current configuration; cells are the
+/// bodies' simplices, then the facets of bare rigid surfaces).
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -50,6 +51,10 @@ class OutputWriter {
   [[nodiscard]] io::VtuField contact_field(int num_nodes) const;
   void write_contact_state(const model::State& state) const;
   const assembly::Assembler<D>& assembler_;
+  /// The facets of the bodies without cells (bare rigid surfaces), D × n,
+  /// written as cells after the model's, and the body of each.
+  Eigen::MatrixXi surface_facets_;
+  std::vector<int> surface_body_;
   const contact::ActiveSet<D>* contacts_;
   bool contact_state_;
   std::filesystem::path directory_;
