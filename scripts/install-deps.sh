@@ -10,7 +10,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libopenblas-dev libmetis-dev
   libgmsh-dev gmsh
-  libtomlplusplus-dev libcli11-dev libfmt-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
   python3-vtk9 python3-meshio

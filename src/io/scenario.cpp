@@ -82,6 +82,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   const Section top(root, scenario_section(""), "", ctx);
   Scenario scenario;
   scenario.file = file;
+  scenario.text = text;
   scenario.title = top.string("title");
   scenario.dimension = ctx.dimension = top.integer("dimension");
   scenario.time = parse_time(top.table("time"));

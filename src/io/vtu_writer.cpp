@@ -132,7 +132,7 @@ void write_vtu(const std::filesystem::path& file, const VtuGrid& grid) {
   xml += points(grid.points);
   xml += cells(grid);
   xml += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  detail::write_atomically(file, xml);
+  write_atomically(file, xml);
 }
 
 PvdWriter::PvdWriter(std::filesystem::path file) : file_(std::move(file)) {}
@@ -160,7 +160,7 @@ void PvdWriter::add(double time, const std::string& relative_file) {
   }
   xml += "  </Collection>\n</VTKFile>\n";
   try {
-    detail::write_atomically(file_, xml);
+    write_atomically(file_, xml);
   } catch (const Error&) {
     entries_.pop_back();  // the file on disk still lists the earlier entries only
     throw;

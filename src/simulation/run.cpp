@@ -2,12 +2,13 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <memory>
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "io/history_writer.hpp"
 #include "simulation/checkpoint.hpp"
 #include "simulation/contact_setup.hpp"
@@ -48,24 +49,6 @@ class DriftTracker {
   time::Diagnostics d0_;
   double energy_scale_, linear_scale_, angular_scale_;
 };
-
-/// The run's figures as JSON (for bench/ and scripts).
-void write_summary(const RunSummary& s, int dofs, const std::filesystem::path& file) {
-  const auto& t = s.timings;
-  std::ofstream out(file);
-  out << fmt::format(
-      "{{\n  \"steps\": {},\n  \"unknowns\": {},\n  \"wall_seconds\": {:.6g},\n"
-      "  \"mean_newton_iterations\": {:.6g},\n  \"max_newton_iterations\": {},\n"
-      "  \"energy_drift\": {:.6e},\n  \"linear_drift\": [{:.6e}, {:.6e}, {:.6e}],\n"
-      "  \"angular_drift\": [{:.6e}, {:.6e}, {:.6e}],\n  \"activations\": {},\n  \"releases\": {},\n"
-      "  \"max_activation_gap\": {:.6e},\n  \"seconds\": {{\"assembly\": {:.6g}, \"elimination\": {:.6g}, "
-      "\"factorization\": {:.6g}, \"solve\": {:.6g}, \"contact_search\": {:.6g}, \"output\": {:.6g}}},\n"
-      "  \"factorizations\": {},\n  \"symbolic_analyses\": {},\n  \"cutbacks\": {},\n  \"min_dt\": {:.6e}\n}}\n",
-      s.steps, dofs, s.wall_seconds, s.mean_newton_iterations, s.max_newton_iterations, s.energy_drift,
-      s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
-      s.angular_drift.z(), s.activations, s.releases, s.max_activation_gap, t.assembly, t.elimination, t.factorization,
-      t.solve, t.contact_search, s.output_seconds, t.factorizations, t.analyses, s.cutbacks, s.min_dt);
-}
 
 solver::NewtonSettings newton_settings(const io::NewtonSpec& n) {
   solver::NewtonSettings s{n.max_iterations, n.residual_tolerance, n.increment_tolerance};
@@ -131,6 +114,7 @@ bool finished(const io::TimeSpec& t, const model::State& state) { return state.t
 
 template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
+  const auto started = std::chrono::system_clock::now();
   const Problem<D> problem = setup<D>(sc);
   const assembly::Assembler<D> assembler(problem.model, sc.time.mass == io::MassKind::lumped);
   contact::ActiveSet<D> contacts(problem.model, make_contact_pairs<D>(sc, problem.model));
@@ -154,8 +138,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     io::resume_history(dir / "history.csv", state.step);
     io::resume_history(dir / "steps.csv", state.step);
   }
+  const RunOrigin origin = run_origin(sc, started);  // reads the mesh files: before anything is written
   OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contacts.empty() ? nullptr : &contacts,
                          sc.output.contact_state, options.restart ? std::optional<double>(state.time) : std::nullopt);
+  io::write_atomically(dir / "scenario.toml", sc.text);
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
   const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
@@ -236,7 +222,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.cutbacks = control.cutbacks - first_cutbacks;
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();
-  write_summary(summary, problem.model.num_dofs(), dir / "summary.json");
+  io::write_atomically(dir / "summary.json", summary_json(summary, problem.model.num_dofs(), origin));
   return summary;
 }
 

@@ -7,7 +7,7 @@
 
 #include "core/types.hpp"
 #include "io/scenario.hpp"
-#include "solver/timings.hpp"
+#include "simulation/summary.hpp"
 
 namespace conserve::simulation {
 
@@ -19,25 +19,6 @@ struct RunOptions {
   /// step size and active set are restored, history.csv and steps.csv keep
   /// their rows up to the checkpoint's step and continue after it.
   std::optional<std::filesystem::path> restart;
-};
-
-/// What a finished run measured.
-struct RunSummary {
-  std::int64_t steps = 0;  ///< steps taken by this invocation
-  double wall_seconds = 0.0;
-  double energy_drift = 0.0;          ///< max |E − E0| / |E0| (or / max(K+W) if E0 = 0)
-  Vec3 linear_drift = Vec3::Zero();   ///< per component, max |L_i − L_i0| / max(|L|, p_ref)
-  Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / max(|J|, j_ref)
-  double mean_newton_iterations = 0.0;
-  int max_newton_iterations = 0;
-  std::int64_t activations = 0;     ///< contact activations over the run
-  std::int64_t releases = 0;        ///< contact releases over the run
-  double max_activation_gap = 0.0;  ///< largest gap of a slave at activation [m]
-  std::filesystem::path output_directory;
-  solver::Timings timings;      ///< where the wall time went
-  double output_seconds = 0.0;  ///< writing history and VTU files
-  std::int64_t cutbacks = 0;    ///< failed step attempts retried with Δt halved
-  double min_dt = 0.0;          ///< smallest step size used [s]
 };
 
 /// Runs the scenario, writing history.csv, steps.csv (step, time, dt,
