@@ -1,8 +1,8 @@
 #pragma once
 /// Checkpoints: everything a run needs to continue bit-identically from a
 /// step (state, step size and cutback state, active contact constraints,
-/// running drift maxima), tied to the scenario by a hash of its model and
-/// physics settings. Binary (raw doubles), written atomically.
+/// running drift maxima), tied to the scenario by its fingerprint
+/// (simulation/fingerprint.hpp). Binary (raw doubles), written atomically.
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -11,6 +11,7 @@
 #include "io/scenario.hpp"
 #include "model/model.hpp"
 #include "model/state.hpp"
+#include "simulation/fingerprint.hpp"
 
 namespace conserve::simulation {
 
@@ -37,22 +38,12 @@ struct StepControl {
 
 template <int D>
 struct Checkpoint {
-  std::uint64_t scenario_hash = 0;
+  Fingerprint fingerprint;  ///< of the scenario that wrote it
   model::State state;
   StepControl control;
   RunTotals totals;
   std::vector<contact::Constraint<D>> constraints;
 };
-
-/// A hash of what determines the trajectory: the model (coordinates, cells
-/// and their volumes, bodies' materials, prescribed dofs, initial
-/// conditions), gravity, time step, schemes, Newton tolerances and
-/// factorization reuse, and contact pairs. The end time, output
-/// settings and the effort limits (min_step, max_iterations, max_passes)
-/// are not in it, so that a run may be continued further, with other
-/// output, or with more effort after a failure.
-template <int D>
-std::uint64_t scenario_hash(const io::Scenario& scenario, const model::Model<D>& model);
 
 /// "DIR/checkpoints/ckpt_NNNNNN.bin" (six digits or more).
 std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, std::int64_t step);
@@ -69,11 +60,12 @@ int prune_checkpoints(const std::filesystem::path& output_directory, std::int64_
 template <int D>
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& checkpoint);
 
-/// Reads a checkpoint for a run of `model` with hash `expected_hash`.
-/// Throws InputError naming the file if it is not a checkpoint, is
-/// truncated, or belongs to another scenario or dimension.
+/// Reads a checkpoint for a run of `model` whose fingerprint is `expected`.
+/// Throws InputError naming the file if it is not a checkpoint (or one of
+/// another format version), is truncated, or belongs to another dimension
+/// or scenario: then the message names the first setting that differs.
 template <int D>
-Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t expected_hash,
+Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerprint& expected,
                               const model::Model<D>& model);
 
 }  // namespace conserve::simulation

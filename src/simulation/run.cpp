@@ -123,14 +123,14 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   RunSummary summary;
   summary.output_directory = options.output_directory.value_or(sc.output.directory);
   const std::filesystem::path& dir = summary.output_directory;
-  const std::uint64_t hash = scenario_hash<D>(sc, problem.model);
+  const Fingerprint fingerprint = scenario_fingerprint<D>(sc, problem.model);
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(d0);
   StepControl control{.dt = sc.time.step};
   RunTotals totals;
   if (options.restart) {
-    Checkpoint<D> c = read_checkpoint<D>(*options.restart, hash, problem.model);
+    Checkpoint<D> c = read_checkpoint<D>(*options.restart, fingerprint, problem.model);
     state = std::move(c.state);
     control = c.control;
     totals = c.totals;
@@ -150,7 +150,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   }
   auto save = [&](const model::State& s, std::vector<contact::Constraint<D>> constraints) {
     const auto file = checkpoint_path(dir, s.step);
-    write_checkpoint<D>(file, {hash, s, control, totals, std::move(constraints)});
+    write_checkpoint<D>(file, {fingerprint, s, control, totals, std::move(constraints)});
     return file;
   };
   Stepper<D> stepper{sc, problem.model, contacts, integrator, control, sc.time.step, sc.time.min_step};

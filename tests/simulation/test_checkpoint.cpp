@@ -30,7 +30,7 @@ TEST(Checkpoint, StepBeyondThirtyTwoBitsRoundTrips) {
   const auto dir = test::scratch("checkpoint_big_step");
   const model::Model<2> model = three_nodes();
   Checkpoint<2> c;
-  c.scenario_hash = 7;
+  c.fingerprint = {{"dimension", 2, "2"}, {"[time] step", 7, "0.001"}};
   c.state.step = 3'000'000'005LL;
   c.state.time = 3000.000005;
   c.state.u = Eigen::VectorXd::LinSpaced(6, 0.0, 1.0);
@@ -38,7 +38,7 @@ TEST(Checkpoint, StepBeyondThirtyTwoBitsRoundTrips) {
   c.control.dt = 1e-3;
   const fs::path file = checkpoint_path(dir, c.state.step);
   write_checkpoint<2>(file, c);
-  const Checkpoint<2> back = read_checkpoint<2>(file, 7, model);
+  const Checkpoint<2> back = read_checkpoint<2>(file, c.fingerprint, model);
   EXPECT_EQ(back.state.step, 3'000'000'005LL);
   EXPECT_EQ(back.state.time, c.state.time);
   EXPECT_EQ(back.state.u, c.state.u);
@@ -56,7 +56,7 @@ TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
   bytes.append(reinterpret_cast<const char*>(&version), sizeof version).append(64, '\0');
   test::write_file(dir / "old.bin", bytes);
   try {
-    read_checkpoint<2>(dir / "old.bin", 7, three_nodes());
+    read_checkpoint<2>(dir / "old.bin", {}, three_nodes());
     FAIL() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), (dir / "old.bin").string() +
