@@ -22,70 +22,18 @@ from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 CONSERVE = None  # set from the command line
 VTK_VERTEX, VTK_LINE, VTK_TRIANGLE, VTK_TETRA = 1, 3, 5, 10
 
-DISC_ON_SEGMENT = """title = "disc above a rigid segment"
-dimension = 2
-[time]
-step = 0.01
-end = 0.04
-[output]
+SCENARIOS = pathlib.Path(__file__).resolve().parents[1] / "data" / "scenarios"
+# test_rigid.cpp's scenarios; the disc's also gets a contact pair (so that
+# contact-state files are written) and VTU output every 2 steps
+DISC_ON_SEGMENT = (SCENARIOS / "rigid_disc_and_sliding_segment.toml").read_text() + """[output]
 vtu_every = 2
 contact_state = true
-[[body]]
-name = "disc"
-translate = [0.0, 0.31]
-velocity = [0.0, -1.0]
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "disc"
-radius = 0.3
-size = 0.15
-[[body]]
-name = "ground"
-rigid = true
-velocity = [0.25, 0.0]
-[body.mesh]
-generator = "segment"
-lx = 2.0
-size = 0.5
 [[contact]]
 slave = "disc"
 master = "ground"
 kind = "frictionless"
 """
-
-BOX_ON_SQUARE = """title = "box above a rigid square"
-dimension = 3
-[time]
-step = 0.01
-end = 0.03
-[output]
-vtu_every = 1
-[[body]]
-name = "box"
-translate = [0.0, 0.0, 0.5]
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "box"
-lx = 0.4
-ly = 0.4
-lz = 0.3
-size = 0.2
-[[body]]
-name = "floor"
-rigid = true
-velocity = [0.0, 0.0, 0.5]
-[body.mesh]
-generator = "square"
-lx = 2.0
-ly = 2.0
-size = 1.0
-"""
+BOX_ON_SQUARE = (SCENARIOS / "rigid_box_and_rising_square.toml").read_text()
 
 
 def run(folder, text):
@@ -99,9 +47,9 @@ def run(folder, text):
 
 
 def pvd_files(out):
-    """The VTU files that solution.pvd lists, in order."""
+    """(time, VTU file) of every data set solution.pvd lists, in order."""
     root = ET.parse(out / "solution.pvd").getroot()
-    return [out / d.get("file") for d in root.iter("DataSet")]
+    return [(float(d.get("timestep")), out / d.get("file")) for d in root.iter("DataSet")]
 
 
 def read_vtk(path):
@@ -162,8 +110,8 @@ class RealReaders(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             out = run(pathlib.Path(tmp), DISC_ON_SEGMENT)
             files = pvd_files(out)
-            self.assertEqual(len(files), 3)  # steps 0, 2, 4
-            for f, t in zip(files, (0.0, 0.02, 0.04)):
+            self.assertEqual(len(files), 4)  # steps 0, 2, 4 and the last, 5
+            for t, f in files:
                 with self.subTest(file=f.name):
                     grid = read_vtk(f)
                     # the segment |x| <= 1 at y = 0, moved by 0.25 t along x
@@ -174,7 +122,7 @@ class RealReaders(unittest.TestCase):
                     self.assertEqual(len(mesh.cells_dict["triangle"]), grid.GetNumberOfCells() - 4)
             # contact state files: one vertex per slave node of the disc
             states = sorted(out.glob("vtu/contact_*_pair0.vtu"))
-            self.assertEqual(len(states), 3)
+            self.assertEqual(len(states), 4)
             for f in states:
                 with self.subTest(file=f.name):
                     grid = read_vtk(f)
@@ -190,8 +138,8 @@ class RealReaders(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             out = run(pathlib.Path(tmp), BOX_ON_SQUARE)
             files = pvd_files(out)
-            self.assertEqual(len(files), 4)
-            for f, t in zip(files, (0.0, 0.01, 0.02, 0.03)):
+            self.assertEqual(len(files), 5)  # steps 0, 5, 10, 15, 20
+            for t, f in files:
                 with self.subTest(file=f.name):
                     grid = read_vtk(f)
                     # 2 x 2 squares of two triangles each, |x|, |y| <= 1, z = 0.5 t
