@@ -67,8 +67,8 @@ std::string components(const Eigen::Vector3d& v, int n) {
 
 template <int D>
 std::string deformation(const Eigen::Matrix3d& f) {
-  std::vector<std::string> rows;
-  for (int i = 0; i < D; ++i) rows.push_back(components(f.row(i).transpose(), D));
+  std::vector<std::string> rows(D);
+  for (int i = 0; i < D; ++i) rows[i] = components(f.row(i).transpose(), D);
   return fmt::format("[{}]", fmt::join(rows, ", "));
 }
 
