@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include "core/build_info.hpp"
 #include "core/error.hpp"
 #include "io/scenario.hpp"
 #include "simulation/run.hpp"
@@ -63,11 +64,12 @@ int guarded(F&& body) {
 
 int main(int argc, char** argv) {
   CLI::App app{"conserve: energy-momentum conserving finite-element dynamics with contact"};
-  app.set_version_flag("--version", "conserve 0.1.0");
+  app.set_version_flag("--version", fmt::format("conserve {} (commit {})", conserve::build_info::version(),
+                                                conserve::build_info::commit()));
   app.require_subcommand(1);
   std::string scenario_file, output_dir, restart_file;
   bool quiet = false;
-  int steps = -1;
+  std::int64_t steps = -1;
   int blas_threads = 1;
   CLI::App* run = app.add_subcommand("run", "run a scenario, writing history.csv and ParaView output");
   run->add_option("scenario", scenario_file, "scenario file (TOML)")->required();

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every build, test, plotting and benchmark dependency of conserve
-# from Debian 12 packages (`time` is GNU time, for bench/run_paper.sh).
+# from Debian 12 packages (`time` is GNU time, for bench/run_paper.sh;
+# python3-vtk9 and python3-meshio read the VTU output in the tests).
 # Idempotent: packages already present are skipped by apt, and the package
 # index is refreshed only when something is missing.
 set -euo pipefail
@@ -9,9 +10,10 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libopenblas-dev libmetis-dev
   libgmsh-dev gmsh
-  libtomlplusplus-dev libcli11-dev libfmt-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  python3-vtk9 python3-meshio
   time
 )
 

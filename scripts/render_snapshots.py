@@ -221,9 +221,10 @@ class Scene:
             self.bare = lines
             self.bare_cells = line_idx
         self.owner = owner_cell
-        # Bare rigid surfaces may be written as points without cells: draw
-        # the convex hull of those points when they lie in a plane (3D) or
-        # the segment through them when they lie on a line (2D).
+        # Output of conserve before it wrote the facets of bare rigid
+        # surfaces as cells has their points only: draw the convex hull of
+        # those points when they lie in a plane (3D) or the segment through
+        # them when they lie on a line (2D).
         used = np.zeros(len(self.points), dtype=bool)
         used[g["connectivity"]] = True
         free = self.points[~used]

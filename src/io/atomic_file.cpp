@@ -8,7 +8,7 @@
 
 #include "core/error.hpp"
 
-namespace conserve::io::detail {
+namespace conserve::io {
 
 void write_atomically(const std::filesystem::path& file, std::string_view content) {
   auto temporary = file;
@@ -32,6 +32,8 @@ void write_atomically(const std::filesystem::path& file, std::string_view conten
     throw Error(fmt::format("{}: cannot rename {} into place: {}", file.string(), temporary.string(), error.message()));
   }
 }
+
+namespace detail {
 
 std::string xml_escape(std::string_view text) {
   std::string out;
@@ -59,4 +61,5 @@ std::string xml_escape(std::string_view text) {
   return out;
 }
 
-}  // namespace conserve::io::detail
+}  // namespace detail
+}  // namespace conserve::io

@@ -56,8 +56,8 @@ std::vector<double> parse_row(const std::string& line, std::size_t columns, cons
 }
 
 /// Files to resume rather than truncate, with the last step to keep.
-std::map<std::filesystem::path, int>& pending_resumes() {
-  static std::map<std::filesystem::path, int> pending;
+std::map<std::filesystem::path, std::int64_t>& pending_resumes() {
+  static std::map<std::filesystem::path, std::int64_t> pending;
   return pending;
 }
 std::mutex& resume_mutex() {
@@ -65,17 +65,17 @@ std::mutex& resume_mutex() {
   return m;
 }
 
-std::optional<int> take_resume(const std::filesystem::path& file) {
+std::optional<std::int64_t> take_resume(const std::filesystem::path& file) {
   const std::lock_guard lock(resume_mutex());
   const auto it = pending_resumes().find(file);
   if (it == pending_resumes().end()) return std::nullopt;
-  const int step = it->second;
+  const std::int64_t step = it->second;
   pending_resumes().erase(it);
   return step;
 }
 
 /// The header and the rows up to `last_step` of an existing history, as text.
-std::string kept_prefix(const std::filesystem::path& file, const std::string& header, int last_step) {
+std::string kept_prefix(const std::filesystem::path& file, const std::string& header, std::int64_t last_step) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return header + '\n';  // a restart into a new folder: the rows start after the restart step
   std::string line, kept;
@@ -85,8 +85,8 @@ std::string kept_prefix(const std::filesystem::path& file, const std::string& he
   bool found = false;
   while (read_line(in, line)) {
     const auto step = to_double(line.substr(0, line.find(',')));
-    if (!step || *step > last_step) break;
-    found = found || *step == last_step;
+    if (!step || *step > static_cast<double>(last_step)) break;
+    found = found || *step == static_cast<double>(last_step);
     kept += line + '\n';
   }
   if (!found) throw InputError(fmt::format("{}: cannot resume: it has no row of step {}", file.string(), last_step));
@@ -109,7 +109,7 @@ void replace_file(const std::filesystem::path& file, const std::string& text) {
 
 }  // namespace
 
-void resume_history(const std::filesystem::path& file, int last_step) {
+void resume_history(const std::filesystem::path& file, std::int64_t last_step) {
   const std::lock_guard lock(resume_mutex());
   pending_resumes()[file] = last_step;
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// The per-step CSV history: one header line, one row per step, flushed
 /// after every row so that a killed run leaves complete rows behind.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -29,7 +30,7 @@ class HistoryWriter {
 /// after them, rather than truncating it (a missing file is started anew).
 /// That writer throws InputError if the file has another header or lacks
 /// the row of `last_step`.
-void resume_history(const std::filesystem::path& file, int last_step);
+void resume_history(const std::filesystem::path& file, std::int64_t last_step);
 
 /// Reads a history written by HistoryWriter (for tests and plotting):
 /// header names and rows. Throws InputError on a malformed file.

@@ -36,6 +36,12 @@ TimeSpec parse_time(const Section& s) {
   if (time.end < time.step) {
     s.fail("end", fmt::format("{} is smaller than step = {}", time.end, time.step), "end ≥ step");
   }
+  // Step numbers are 64-bit, and history.csv writes them as doubles: exact
+  // up to 2^53, which no run will reach.
+  if (constexpr double kMostSteps = 9007199254740992.0; time.end / time.step > kMostSteps) {
+    s.fail("end", fmt::format("{:g} steps (end / step) are more than the output can number", time.end / time.step),
+           "end / step ≤ 2^53");
+  }
   time.scheme = s.string("scheme") == "midpoint" ? StressScheme::midpoint : StressScheme::conserving;
   time.mass = s.string("mass") == "lumped" ? MassKind::lumped : MassKind::consistent;
   time.min_step = s.number("min_step");
@@ -75,6 +81,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   const Section top(root, scenario_section(""), "", ctx);
   Scenario scenario;
   scenario.file = file;
+  scenario.text = text;
   scenario.title = top.string("title");
   scenario.dimension = ctx.dimension = top.integer("dimension");
   scenario.time = parse_time(top.table("time"));

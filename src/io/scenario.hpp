@@ -114,6 +114,7 @@ struct OutputSpec {
 
 struct Scenario {
   std::filesystem::path file;  ///< where it was read from (for messages)
+  std::string text;            ///< the file's bytes as parsed (copied to the output as scenario.toml)
   std::string title;
   int dimension = 3;  ///< 2 (plane strain) or 3
   TimeSpec time;

@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 
+#include "io/names.hpp"
 #include "io/scenario_parts.hpp"
 
 namespace conserve::io::detail {
@@ -56,7 +57,7 @@ MaterialSpec parse_body_material(const Section& s, bool rigid) {
 BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file) {
   BodySpec body;
   body.name = s.string("name");
-  if (body.name.empty()) s.fail("name", "is empty", "a non-empty name");
+  check_name(s, "name", body.name);
   body.rigid = s.boolean("rigid");
   if (body.rigid) {
     reject_on_rigid_body(s, "angular_velocity");
@@ -75,6 +76,7 @@ BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file
 BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodies) {
   BoundarySpec boundary;
   boundary.body = s.string("body");
+  check_name(s, "body", boundary.body);
   const auto body = find_body(bodies, boundary.body);
   if (!body) s.fail("body", fmt::format("unknown body '{}'", boundary.body), "one of: " + body_names(bodies));
   if (body->rigid) {
@@ -82,7 +84,7 @@ BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodie
            "a deformable body (a rigid body moves at its velocity; it takes no [[boundary]])");
   }
   boundary.group = s.string("group");
-  if (boundary.group.empty()) s.fail("group", "is empty", "\"all\" or the name of a facet group");
+  check_name(s, "group", boundary.group);
   boundary.components = s.components("components");
   boundary.value = s.vector("value");
   boundary.rate = s.vector("rate");
@@ -90,6 +92,11 @@ BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodie
 }
 
 }  // namespace
+
+void check_name(const Section& s, std::string_view key, std::string_view name, std::string_view what) {
+  if (const std::string problem = name_problem(name); !problem.empty())
+    s.fail(key, fmt::format("{}{}", what, problem), kNameRule);
+}
 
 const BodySpec* find_body(const std::vector<BodySpec>& bodies, std::string_view name) {
   const auto it = std::find_if(bodies.begin(), bodies.end(), [&](const BodySpec& b) { return b.name == name; });

@@ -15,11 +15,13 @@ struct SurfaceName {
 constexpr std::string_view kSurfaceForm = "\"body\" or \"body:group\"";
 
 /// Parses the surface key `key` ("slave" or "master"): the body must exist,
-/// the group (default "boundary") must not be empty.
+/// the group (default "boundary") must not be empty, both keep kNameRule.
 SurfaceName parse_surface(const Section& s, std::string_view key, const std::vector<BodySpec>& bodies) {
   const auto text = s.string(key);
   const auto colon = text.find(':');
   SurfaceName surface{text.substr(0, colon), colon == std::string::npos ? "boundary" : text.substr(colon + 1)};
+  if (!surface.body.empty()) check_name(s, key, surface.body, "body ");
+  if (!surface.group.empty()) check_name(s, key, surface.group, "group ");
   if (surface.body.empty()) s.fail(key, fmt::format("'{}' names no body", text), kSurfaceForm);
   if (!find_body(bodies, surface.body)) {
     s.fail(key, fmt::format("unknown body '{}'", surface.body), "a body, one of: " + body_names(bodies));

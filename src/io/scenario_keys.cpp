@@ -49,7 +49,11 @@ SectionSpec time_section() {
            .unit = "s",
            .min = above(0),
            .doc = "time step Δt"},
-          {.name = "end", .type = KeyType::number, .required = true, .unit = "s", .doc = "end time; must be ≥ step"},
+          {.name = "end",
+           .type = KeyType::number,
+           .required = true,
+           .unit = "s",
+           .doc = "end time; must be ≥ step, and end / step ≤ 2^53"},
           {.name = "scheme",
            .type = KeyType::choice,
            .default_value = "conserving",
@@ -157,7 +161,9 @@ SectionSpec body_section() {
               {.name = "name",
                .type = KeyType::string,
                .required = true,
-               .doc = "unique, non-empty name (used by [[boundary]], [[contact]] and in the output)"},
+               .doc = "unique name (used by [[boundary]], [[contact]] and in the output); a name is non-empty, "
+                      "has no `,`, `\"`, `:` or control characters and no leading or trailing spaces (history.csv's "
+                      "header and the \"body:group\" syntax carry it)"},
               {.name = "rigid",
                .type = KeyType::boolean,
                .default_value = "false",
@@ -255,7 +261,7 @@ SectionSpec boundary_section() {
                .type = KeyType::string,
                .required = true,
                .doc = "`all` (every node of the body) or a facet group of its mesh "
-                      "(checked when the model is built)"},
+                      "(checked when the model is built); a name as for [[body]] `name`"},
               {.name = "components",
                .type = KeyType::components,
                .default_value = "all",
@@ -283,12 +289,12 @@ SectionSpec contact_section() {
               {.name = "slave",
                .type = KeyType::string,
                .required = true,
-               .doc = "slave surface, \"body\" or \"body:group\" (group default `boundary`); choose the finer "
-                      "mesh; a rigid body cannot be the slave"},
+               .doc = "slave surface, \"body\" or \"body:group\" (group default `boundary`; the group a name as "
+                      "for [[body]] `name`); choose the finer mesh; a rigid body cannot be the slave"},
               {.name = "master",
                .type = KeyType::string,
                .required = true,
-               .doc = "master surface, \"body\" or \"body:group\"; not the slave surface itself"},
+               .doc = "master surface, \"body\" or \"body:group\" (as for `slave`); not the slave surface itself"},
               {.name = "kind",
                .type = KeyType::choice,
                .required = true,

@@ -12,6 +12,10 @@
 
 namespace conserve::io::detail {
 
+/// Fails on key `key` of `s` unless `name` keeps kNameRule (io/names.hpp);
+/// `what` ("", "body ", "group ") starts the message.
+void check_name(const Section& s, std::string_view key, std::string_view name, std::string_view what = "");
+
 /// The body called `name`, or nullptr.
 const BodySpec* find_body(const std::vector<BodySpec>& bodies, std::string_view name);
 

@@ -70,7 +70,7 @@ std::string points(const Eigen::MatrixXd& p) {
   return "      <Points>\n" + data_array("Float64", "", 3, xyz) + "      </Points>\n";
 }
 
-std::uint8_t cell_type(Eigen::Index nodes_per_cell) {
+std::uint8_t cell_type(int nodes_per_cell) {
   switch (nodes_per_cell) {
     case 1:
       return 1;  // VTK_VERTEX
@@ -85,20 +85,37 @@ std::uint8_t cell_type(Eigen::Index nodes_per_cell) {
   }
 }
 
-std::string cells(const Eigen::MatrixXi& c, Eigen::Index num_points) {
-  const auto type = cell_type(c.rows());
+/// How many nodes each cell of `grid` has (checked against its column).
+std::vector<int> node_counts(const VtuGrid& grid) {
+  const auto& c = grid.cells;
+  if (grid.nodes_per_cell.empty())
+    return std::vector<int>(static_cast<std::size_t>(c.cols()), static_cast<int>(c.rows()));
+  if (grid.nodes_per_cell.size() != static_cast<std::size_t>(c.cols()))
+    throw Error(fmt::format("VTU cells: {} node counts for {} cells", grid.nodes_per_cell.size(), c.cols()));
+  for (std::size_t j = 0; j < grid.nodes_per_cell.size(); ++j) {
+    if (grid.nodes_per_cell[j] < 1 || grid.nodes_per_cell[j] > c.rows())
+      throw Error(fmt::format("VTU cell {}: {} nodes in a column of {}", j, grid.nodes_per_cell[j], c.rows()));
+  }
+  return grid.nodes_per_cell;
+}
+
+std::string cells(const VtuGrid& grid) {
+  const auto& c = grid.cells;
+  const std::vector<int> counts = node_counts(grid);
   std::vector<std::int64_t> connectivity;
   std::vector<std::int64_t> offsets;
+  std::vector<std::uint8_t> types;
   for (Eigen::Index j = 0; j < c.cols(); ++j) {
-    for (Eigen::Index i = 0; i < c.rows(); ++i) {
-      if (c(i, j) < 0 || c(i, j) >= num_points) {
+    const int m = counts[static_cast<std::size_t>(j)];
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (c(i, j) < 0 || c(i, j) >= grid.points.cols()) {
         throw Error(fmt::format("VTU cell {}: node {} out of range", j, c(i, j)));
       }
       connectivity.push_back(c(i, j));
     }
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+    types.push_back(cell_type(m));
   }
-  const std::vector<std::uint8_t> types(static_cast<std::size_t>(c.cols()), type);
   return "      <Cells>\n" + data_array("Int64", "connectivity", 1, connectivity) +
          data_array("Int64", "offsets", 1, offsets) + data_array("UInt8", "types", 1, types) + "      </Cells>\n";
 }
@@ -113,9 +130,9 @@ void write_vtu(const std::filesystem::path& file, const VtuGrid& grid) {
   xml += fields("PointData", grid.point_data, grid.points.cols());
   xml += fields("CellData", grid.cell_data, grid.cells.cols());
   xml += points(grid.points);
-  xml += cells(grid.cells, grid.points.cols());
+  xml += cells(grid);
   xml += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  detail::write_atomically(file, xml);
+  write_atomically(file, xml);
 }
 
 PvdWriter::PvdWriter(std::filesystem::path file) : file_(std::move(file)) {}
@@ -143,7 +160,7 @@ void PvdWriter::add(double time, const std::string& relative_file) {
   }
   xml += "  </Collection>\n</VTKFile>\n";
   try {
-    detail::write_atomically(file_, xml);
+    write_atomically(file_, xml);
   } catch (const Error&) {
     entries_.pop_back();  // the file on disk still lists the earlier entries only
     throw;

@@ -16,10 +16,16 @@ struct VtuField {
   std::vector<double> values;
 };
 
-/// One unstructured grid of simplices.
+/// One unstructured grid of simplices, of one kind or mixed (e.g. the
+/// tetrahedra of bodies and the triangles of bare rigid surfaces).
 struct VtuGrid {
   Eigen::MatrixXd points;  ///< dim × n (dim 2 is padded with z = 0)
-  Eigen::MatrixXi cells;   ///< (dim+1) × n_cells: triangles or tetrahedra; 2 × n: lines; 1 × n: vertices
+  /// k × n_cells, a cell per column: its node numbers; a cell of m nodes
+  /// (1 vertex, 2 line, 3 triangle, 4 tetrahedron) uses the column's first
+  /// m entries, the others are not read.
+  Eigen::MatrixXi cells;
+  /// Per cell its number of nodes m ≤ k; empty: every cell has k.
+  std::vector<int> nodes_per_cell;
   std::vector<VtuField> point_data;
   std::vector<VtuField> cell_data;
 };

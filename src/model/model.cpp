@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <set>
 
 #include "core/error.hpp"
 
@@ -68,6 +69,21 @@ std::vector<int> group_nodes(const Body& body, const std::string& group) {
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   return nodes;
+}
+
+Eigen::MatrixXi distinct_facets(const Body& body) {
+  std::set<std::vector<int>> seen;
+  std::vector<Eigen::VectorXi> kept;
+  for (const auto& [group, facets] : body.facet_groups) {
+    for (Eigen::Index f = 0; f < facets.cols(); ++f) {
+      std::vector<int> key(facets.col(f).data(), facets.col(f).data() + facets.rows());
+      std::sort(key.begin(), key.end());
+      if (seen.insert(std::move(key)).second) kept.emplace_back(facets.col(f));
+    }
+  }
+  Eigen::MatrixXi out(kept.empty() ? 0 : kept.front().size(), static_cast<Eigen::Index>(kept.size()));
+  for (std::size_t f = 0; f < kept.size(); ++f) out.col(static_cast<Eigen::Index>(f)) = kept[f];
+  return out;
 }
 
 template Body& add_body<2>(Model<2>&, const mesh::Mesh&, const std::string&, const material::Lame&, double, double);

@@ -68,4 +68,11 @@ Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
 /// node of the body. Throws InputError listing the groups if unknown.
 std::vector<int> group_nodes(const Body& body, const std::string& group);
 
+/// The distinct facets of all the body's facet groups, d × n in global node
+/// numbers (d = 2 in 2D, 3 in 3D): a facet in several groups (e.g. the
+/// `surface` and `boundary` of a generated bare surface) comes once, as its
+/// first group in name order has it. What shows a bare surface (a rigid
+/// body without cells) in the output.
+Eigen::MatrixXi distinct_facets(const Body& body);
+
 }  // namespace conserve::model

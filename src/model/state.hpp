@@ -1,14 +1,15 @@
 #pragma once
 /// The state of a run at one instant: flat node-major vectors.
 #include <Eigen/Core>
+#include <cstdint>
 
 namespace conserve::model {
 
 struct State {
-  int step = 0;
-  double time = 0.0;  ///< [s]
-  Eigen::VectorXd u;  ///< displacements from the reference configuration [m]
-  Eigen::VectorXd v;  ///< velocities [m/s]
+  std::int64_t step = 0;  ///< steps since t = 0 (64-bit: long runs pass 2^31 steps)
+  double time = 0.0;      ///< [s]
+  Eigen::VectorXd u;      ///< displacements from the reference configuration [m]
+  Eigen::VectorXd v;      ///< velocities [m/s]
 };
 
 }  // namespace conserve::model

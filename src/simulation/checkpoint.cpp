@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cstring>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string_view>
 #include <system_error>
@@ -16,34 +16,9 @@ namespace conserve::simulation {
 namespace {
 
 constexpr std::string_view kMagic = "conserve-checkpoint";
+/// 2: 64-bit step and counters, the fingerprint's named entries instead of
+/// one hash.
 constexpr std::uint32_t kVersion = 2;
-
-/// FNV-1a over raw bytes.
-class Hasher {
- public:
-  void bytes(const void* data, std::size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 1099511628211ULL;
-  }
-  template <class T>
-  void value(const T& v) {
-    bytes(&v, sizeof v);
-  }
-  template <class M>
-  void matrix(const M& m) {
-    value(static_cast<std::int64_t>(m.size()));
-    bytes(m.data(), sizeof(typename M::Scalar) * static_cast<std::size_t>(m.size()));
-  }
-  template <class T>
-  void vector(const std::vector<T>& v) {
-    value(static_cast<std::int64_t>(v.size()));
-    bytes(v.data(), sizeof(T) * v.size());
-  }
-  [[nodiscard]] std::uint64_t get() const { return hash_; }
-
- private:
-  std::uint64_t hash_ = 14695981039346656037ULL;
-};
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -51,6 +26,10 @@ class Writer {
   template <class T>
   void value(const T& v) {
     buffer_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void text(const std::string& s) {
+    value(static_cast<std::uint64_t>(s.size()));
+    buffer_.append(s);
   }
   void doubles(const double* data, std::size_t count) {
     value(static_cast<std::uint64_t>(count));
@@ -77,6 +56,16 @@ class Reader {
     if (stored != count)
       fail(fmt::format("{} has {} values, this run has {} (not a checkpoint of this scenario)", what, stored, count));
     take(data, count * sizeof(double));
+  }
+  /// A string of at most `most` printable bytes (no control characters).
+  std::string text(std::size_t most) {
+    const auto size = value<std::uint64_t>();
+    if (size > most) fail("a fingerprint entry is too long");
+    std::string s(size, '\0');
+    take(s.data(), size);
+    if (std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+      fail("a fingerprint entry holds a control character");
+    return s;
   }
   [[noreturn]] void fail(const std::string& what) const {
     throw InputError(fmt::format("{}: bad checkpoint: {}", file_.string(), what));
@@ -132,8 +121,8 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.doubles(t.angular_drift.data(), 3);
   w.value(t.newton_iterations);
   w.value(static_cast<std::int32_t>(t.max_newton_iterations));
-  w.value(static_cast<std::int32_t>(t.activations));
-  w.value(static_cast<std::int32_t>(t.releases));
+  w.value(static_cast<std::int64_t>(t.activations));
+  w.value(static_cast<std::int64_t>(t.releases));
   w.value(t.max_activation_gap);
 }
 
@@ -144,10 +133,33 @@ RunTotals read_totals(Reader& r) {
   r.doubles(t.angular_drift.data(), 3, "the angular drift");
   t.newton_iterations = r.value<double>();
   t.max_newton_iterations = r.value<std::int32_t>();
-  t.activations = r.value<std::int32_t>();
-  t.releases = r.value<std::int32_t>();
+  t.activations = r.value<std::int64_t>();
+  t.releases = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
   return t;
+}
+
+void write_fingerprint(Writer& w, const Fingerprint& f) {
+  w.value(static_cast<std::uint64_t>(f.size()));
+  for (const auto& e : f) {
+    w.text(e.name);
+    w.value(e.hash);
+    w.text(e.value);
+  }
+}
+
+Fingerprint read_fingerprint(Reader& r) {
+  constexpr std::uint64_t kMostEntries = 1 << 20;
+  constexpr std::size_t kLongest = 1 << 16;
+  const auto count = r.value<std::uint64_t>();
+  if (count > kMostEntries) r.fail("too many fingerprint entries");
+  Fingerprint f(count);
+  for (auto& e : f) {
+    e.name = r.text(kLongest);
+    e.hash = r.value<std::uint64_t>();
+    e.value = r.text(kLongest);
+  }
+  return f;
 }
 
 std::string slurp(const std::filesystem::path& file) {
@@ -162,62 +174,23 @@ std::string slurp(const std::filesystem::path& file) {
 
 }  // namespace
 
-template <int D>
-std::uint64_t scenario_hash(const io::Scenario& sc, const model::Model<D>& model) {
-  Hasher h;
-  h.value(D);
-  h.matrix(model.X);
-  h.matrix(model.cells);
-  h.vector(model.cell_body);
-  for (const auto& b : model.bodies) {
-    h.bytes(b.name.data(), b.name.size());
-    h.value(b.lame.lambda);
-    h.value(b.lame.mu);
-    h.value(b.density);
-  }
-  for (const auto& g : model.geometry) h.value(g.volume);  // holds the 2D thickness
-  h.matrix(model.gravity);
-  h.vector(model.prescribed.dofs);
-  h.vector(model.prescribed.value);
-  h.vector(model.prescribed.rate);
-  h.value(sc.time.step);
-  h.value(static_cast<int>(sc.time.scheme));
-  h.value(static_cast<int>(sc.time.mass));
-  h.value(sc.newton.residual_tolerance);
-  h.value(sc.newton.reuse_factorization);  // changes the iterates at round-off level
-  for (const auto& c : sc.contacts) {
-    for (const auto* s : {&c.slave_body, &c.slave_group, &c.master_body, &c.master_group}) {
-      h.bytes(s->data(), s->size());
-      h.value('\0');
-    }
-    h.value(static_cast<int>(c.kind));
-    h.value(c.depth_factor);
-  }
-  for (const auto& b : sc.bodies) {  // initial conditions
-    h.matrix(b.velocity);
-    h.matrix(b.angular_velocity);
-    h.matrix(b.initial_deformation);
-  }
-  return h.get();
-}
-
-std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step) {
+std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, std::int64_t step) {
   return output_directory / "checkpoints" / fmt::format("ckpt_{:06d}.bin", step);
 }
 
-int prune_checkpoints(const std::filesystem::path& output_directory, int current_step, int keep) {
+int prune_checkpoints(const std::filesystem::path& output_directory, std::int64_t current_step, int keep) {
   if (keep <= 0) return 0;
   const auto folder = output_directory / "checkpoints";
-  std::vector<int> older;
+  std::vector<std::int64_t> older;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
-    // "ckpt_" + six to nine digits + ".bin"
-    if (name.size() < 15 || name.size() > 18 || !name.starts_with("ckpt_") || !name.ends_with(".bin")) continue;
+    // "ckpt_" + six to eighteen digits + ".bin"
+    if (name.size() < 15 || name.size() > 27 || !name.starts_with("ckpt_") || !name.ends_with(".bin")) continue;
     const std::string digits = name.substr(5, name.size() - 9);
     if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
-    const long step = std::stol(digits);
-    if (step < current_step) older.push_back(static_cast<int>(step));
+    const std::int64_t step = std::stoll(digits);
+    if (step < current_step) older.push_back(step);
   }
   std::sort(older.begin(), older.end(), std::greater<>());
   int deleted = 0;
@@ -233,14 +206,14 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   for (char ch : kMagic) w.value(ch);
   w.value(kVersion);
   w.value(static_cast<std::int32_t>(D));
-  w.value(c.scenario_hash);
-  w.value(static_cast<std::int32_t>(c.state.step));
+  write_fingerprint(w, c.fingerprint);
+  w.value(static_cast<std::int64_t>(c.state.step));
   w.value(c.state.time);
   w.doubles(c.state.u.data(), c.state.u.size());
   w.doubles(c.state.v.data(), c.state.v.size());
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
-  w.value(static_cast<std::int32_t>(c.control.cutbacks));
+  w.value(static_cast<std::int64_t>(c.control.cutbacks));
   write_totals(w, c.totals);
   w.value(static_cast<std::uint64_t>(c.constraints.size()));
   for (const auto& constraint : c.constraints) write_constraint<D>(w, constraint);
@@ -260,19 +233,23 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
 }
 
 template <int D>
-Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t expected_hash,
+Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerprint& expected,
                               const model::Model<D>& model) {
   Reader r(slurp(file), file);
   std::string magic(r.value<std::size_t>() == kMagic.size() ? kMagic.size() : 0, ' ');
   for (char& ch : magic) ch = r.value<char>();
   if (magic != kMagic) r.fail("not a conserve checkpoint");
-  if (r.value<std::uint32_t>() != kVersion) r.fail("written by another version of conserve");
+  if (const auto version = r.value<std::uint32_t>(); version != kVersion)
+    r.fail(
+        fmt::format("format version {}, this conserve reads version {} only (restart with the conserve that "
+                    "wrote it, or run from the start)",
+                    version, kVersion));
   if (r.value<std::int32_t>() != D) r.fail(fmt::format("not of a {}D scenario", D));
   Checkpoint<D> c;
-  c.scenario_hash = r.value<std::uint64_t>();
-  if (c.scenario_hash != expected_hash)
-    r.fail("written by another scenario (model, time step, solver or contact settings differ)");
-  c.state.step = r.value<std::int32_t>();
+  c.fingerprint = read_fingerprint(r);
+  if (const std::string difference = first_difference(c.fingerprint, expected); !difference.empty())
+    r.fail("written by another scenario: " + difference);
+  c.state.step = r.value<std::int64_t>();
   c.state.time = r.value<double>();
   c.state.u.resize(model.num_dofs());
   c.state.v.resize(model.num_dofs());
@@ -280,21 +257,19 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t e
   r.doubles(c.state.v.data(), c.state.v.size(), "the velocity");
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
-  c.control.cutbacks = r.value<std::int32_t>();
+  c.control.cutbacks = r.value<std::int64_t>();
   c.totals = read_totals(r);
   const auto count = r.value<std::uint64_t>();
   if (count > static_cast<std::uint64_t>(model.num_nodes())) r.fail("more constraints than nodes");
   for (std::uint64_t i = 0; i < count; ++i) c.constraints.push_back(read_constraint<D>(r, model.num_nodes()));
   if (!r.at_end()) r.fail("trailing bytes after the constraints");
-  if (c.state.step < 0 || !(c.control.dt > 0.0)) r.fail("bad step or step size");
+  if (c.state.step < 0 || c.control.cutbacks < 0 || !(c.control.dt > 0.0)) r.fail("bad step or step size");
   return c;
 }
 
-template std::uint64_t scenario_hash<2>(const io::Scenario&, const model::Model<2>&);
-template std::uint64_t scenario_hash<3>(const io::Scenario&, const model::Model<3>&);
 template void write_checkpoint<2>(const std::filesystem::path&, const Checkpoint<2>&);
 template void write_checkpoint<3>(const std::filesystem::path&, const Checkpoint<3>&);
-template Checkpoint<2> read_checkpoint<2>(const std::filesystem::path&, std::uint64_t, const model::Model<2>&);
-template Checkpoint<3> read_checkpoint<3>(const std::filesystem::path&, std::uint64_t, const model::Model<3>&);
+template Checkpoint<2> read_checkpoint<2>(const std::filesystem::path&, const Fingerprint&, const model::Model<2>&);
+template Checkpoint<3> read_checkpoint<3>(const std::filesystem::path&, const Fingerprint&, const model::Model<3>&);
 
 }  // namespace conserve::simulation

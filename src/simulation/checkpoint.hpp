@@ -1,8 +1,8 @@
 #pragma once
 /// Checkpoints: everything a run needs to continue bit-identically from a
 /// step (state, step size and cutback state, active contact constraints,
-/// running drift maxima), tied to the scenario by a hash of its model and
-/// physics settings. Binary (raw doubles), written atomically.
+/// running drift maxima), tied to the scenario by its fingerprint
+/// (simulation/fingerprint.hpp). Binary (raw doubles), written atomically.
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -11,6 +11,7 @@
 #include "io/scenario.hpp"
 #include "model/model.hpp"
 #include "model/state.hpp"
+#include "simulation/fingerprint.hpp"
 
 namespace conserve::simulation {
 
@@ -21,8 +22,8 @@ struct RunTotals {
   Vec3 angular_drift = Vec3::Zero();
   double newton_iterations = 0.0;  ///< sum over the steps
   int max_newton_iterations = 0;
-  int activations = 0;
-  int releases = 0;
+  std::int64_t activations = 0;
+  std::int64_t releases = 0;
   double max_activation_gap = 0.0;
 };
 
@@ -30,50 +31,41 @@ struct RunTotals {
 /// the scenario's Δt) after `kGrowAfter` good steps in a row.
 struct StepControl {
   static constexpr int kGrowAfter = 4;
-  double dt = 0.0;     ///< the step size to try next [s]
-  int good_steps = 0;  ///< converged steps since the last change of dt
-  int cutbacks = 0;    ///< failed attempts over the run
+  double dt = 0.0;            ///< the step size to try next [s]
+  int good_steps = 0;         ///< converged steps since the last change of dt
+  std::int64_t cutbacks = 0;  ///< failed attempts over the run
 };
 
 template <int D>
 struct Checkpoint {
-  std::uint64_t scenario_hash = 0;
+  Fingerprint fingerprint;  ///< of the scenario that wrote it
   model::State state;
   StepControl control;
   RunTotals totals;
   std::vector<contact::Constraint<D>> constraints;
 };
 
-/// A hash of what determines the trajectory: the model (coordinates, cells
-/// and their volumes, bodies' materials, prescribed dofs, initial
-/// conditions), gravity, time step, schemes, Newton tolerances and
-/// factorization reuse, and contact pairs. The end time, output
-/// settings and the effort limits (min_step, max_iterations, max_passes)
-/// are not in it, so that a run may be continued further, with other
-/// output, or with more effort after a failure.
-template <int D>
-std::uint64_t scenario_hash(const io::Scenario& scenario, const model::Model<D>& model);
-
-/// "DIR/checkpoints/ckpt_NNNNNN.bin".
-std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, int step);
+/// "DIR/checkpoints/ckpt_NNNNNN.bin" (six digits or more).
+std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, std::int64_t step);
 
 /// Deletes the checkpoints DIR/checkpoints/ckpt_NNNNNN.bin of steps below
 /// `current_step` except the newest `keep` - 1 of them, so that with the one
 /// of `current_step` `keep` remain. Checkpoints of later steps (left by an
 /// earlier, longer run) and other files are not touched. keep = 0: none is
 /// deleted. Returns how many were deleted.
-int prune_checkpoints(const std::filesystem::path& output_directory, int current_step, int keep);
+int prune_checkpoints(const std::filesystem::path& output_directory, std::int64_t current_step, int keep);
 
 /// Writes the checkpoint atomically (temporary file, then rename), creating
 /// the folder. Throws Error.
 template <int D>
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& checkpoint);
 
-/// Reads a checkpoint for a run of `model` with hash `expected_hash`.
-/// Throws InputError naming the file if it is not a checkpoint, is
-/// truncated, or belongs to another scenario or dimension.
+/// Reads a checkpoint for a run of `model` whose fingerprint is `expected`.
+/// Throws InputError naming the file if it is not a checkpoint (or one of
+/// another format version), is truncated, or belongs to another dimension
+/// or scenario: then the message names the first setting that differs.
 template <int D>
-Checkpoint<D> read_checkpoint(const std::filesystem::path& file, std::uint64_t expected_hash,
+Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerprint& expected,
                               const model::Model<D>& model);
 
 }  // namespace conserve::simulation

@@ -19,7 +19,8 @@ double longest_edge(const contact::ContactSurface& s, const model::Model<D>& mod
   double h = 0.0;
   for (int f = 0; f < s.num_facets(); ++f)
     for (int a = 0; a < D; ++a)
-      for (int b = a + 1; b < D; ++b) h = std::max(h, (model.X.col(s.facets(a, f)) - model.X.col(s.facets(b, f))).norm());
+      for (int b = a + 1; b < D; ++b)
+        h = std::max(h, (model.X.col(s.facets(a, f)) - model.X.col(s.facets(b, f))).norm());
   return h;
 }
 

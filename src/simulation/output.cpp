@@ -10,10 +10,26 @@
 namespace conserve::simulation {
 
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names) {
-  std::vector<std::string> c = {"step",     "time",       "kinetic",         "strain",      "potential", "total",
-                                "L_x",      "L_y",        "L_z",             "J_x",         "J_y",       "J_z",
-                                "newton_iterations",      "residual",        "active_contacts",          "activations",
-                                "releases", "active_set_passes", "max_activation_gap", "contact_force"};
+  std::vector<std::string> c = {"step",
+                                "time",
+                                "kinetic",
+                                "strain",
+                                "potential",
+                                "total",
+                                "L_x",
+                                "L_y",
+                                "L_z",
+                                "J_x",
+                                "J_y",
+                                "J_z",
+                                "newton_iterations",
+                                "residual",
+                                "active_contacts",
+                                "activations",
+                                "releases",
+                                "active_set_passes",
+                                "max_activation_gap",
+                                "contact_force"};
   for (const auto& name : body_names)
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
   return c;
@@ -25,6 +41,21 @@ std::vector<std::string> body_names(const model::Model<D>& model) {
   std::vector<std::string> names;
   for (const auto& b : model.bodies) names.push_back(b.name);
   return names;
+}
+
+/// Appends the distinct facets of every body without cells to `facets`
+/// (D × n) and its index to `body` per facet.
+template <int D>
+void add_bare_surfaces(const model::Model<D>& model, Eigen::MatrixXi& facets, std::vector<int>& body) {
+  facets.resize(D, 0);
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    if (model.bodies[b].num_cells > 0) continue;
+    const Eigen::MatrixXi f = model::distinct_facets(model.bodies[b]);
+    if (f.cols() == 0) continue;
+    facets.conservativeResize(D, facets.cols() + f.cols());
+    facets.rightCols(f.cols()) = f;
+    body.insert(body.end(), static_cast<std::size_t>(f.cols()), static_cast<int>(b));
+  }
 }
 
 std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) {
@@ -45,6 +76,7 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
       directory_(prepared(directory, vtu_every)),
       vtu_every_(vtu_every),
       history_(directory / "history.csv", history_columns(body_names(assembler.model()))) {
+  add_bare_surfaces<D>(assembler.model(), surface_facets_, surface_body_);
   if (vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
   if (pvd_ && resume_time) pvd_->resume(*resume_time);
 }
@@ -55,11 +87,25 @@ void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& 
   double contact_force = 0.0;
   for (double f : forces) contact_force += f;
   const contact::StepContactStats& c = step.contact;
-  std::vector<double> row = {static_cast<double>(state.step), state.time, d.kinetic, d.strain, d.potential, d.total,
-                             d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z(),
-                             static_cast<double>(step.newton.iterations), step.newton.final_residual(),
-                             static_cast<double>(forces.size()), static_cast<double>(c.activations),
-                             static_cast<double>(c.releases), static_cast<double>(c.passes), c.max_activation_gap,
+  std::vector<double> row = {static_cast<double>(state.step),
+                             state.time,
+                             d.kinetic,
+                             d.strain,
+                             d.potential,
+                             d.total,
+                             d.linear.x(),
+                             d.linear.y(),
+                             d.linear.z(),
+                             d.angular.x(),
+                             d.angular.y(),
+                             d.angular.z(),
+                             static_cast<double>(step.newton.iterations),
+                             step.newton.final_residual(),
+                             static_cast<double>(forces.size()),
+                             static_cast<double>(c.activations),
+                             static_cast<double>(c.releases),
+                             static_cast<double>(c.passes),
+                             c.max_activation_gap,
                              contact_force};
   for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
   history_.write_row(row);
@@ -71,7 +117,15 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   const auto& model = assembler_.model();
   io::VtuGrid grid;
   grid.points = model.X + state.u.reshaped(D, model.num_nodes());
-  grid.cells = model.cells;
+  const auto cells = model.num_cells();
+  const auto facets = surface_facets_.cols();
+  grid.cells = Eigen::MatrixXi::Zero(D + 1, cells + facets);
+  grid.cells.leftCols(cells) = model.cells;
+  grid.cells.block(0, cells, D, facets) = surface_facets_;
+  if (facets > 0) {  // mixed: simplices of D + 1 nodes, then facets of D
+    grid.nodes_per_cell.assign(static_cast<std::size_t>(cells), D + 1);
+    grid.nodes_per_cell.resize(static_cast<std::size_t>(cells + facets), D);
+  }
   auto point_vector = [&](const char* name, const Eigen::VectorXd& v) {
     io::VtuField f{name, 3, std::vector<double>(3 * model.num_nodes(), 0.0)};
     for (int n = 0; n < model.num_nodes(); ++n)
@@ -90,6 +144,10 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
     energy.values.push_back(fem::strain_energy<D>(model.geometry[c], lame, x) / model.geometry[c].volume);
     body.values.push_back(model.cell_body[c]);
   }
+  // Bare surfaces have no stress or energy density (NaN: undefined).
+  stress.values.resize(stress.values.size() + 9 * surface_body_.size(), std::nan(""));
+  energy.values.resize(energy.values.size() + surface_body_.size(), std::nan(""));
+  body.values.insert(body.values.end(), surface_body_.begin(), surface_body_.end());
   grid.cell_data = {std::move(stress), std::move(energy), std::move(body)};
   const std::string name = fmt::format("vtu/step_{:06d}.vtu", state.step);
   io::write_vtu(directory_ / name, grid);
@@ -119,8 +177,8 @@ void OutputWriter<D>::write_contact_state(const model::State& state) const {
     const std::vector<Vec<D>> normals = contact::node_normals<D>(pair.slave, x);
     std::vector<std::optional<contact::Match<D>>> matches;
     for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
-      matches.push_back(contact::find_master<D>(x.col(pair.slave.nodes[i]), pair.master, pair.tree, x, pair.search,
-                                                normals[i]));
+      matches.push_back(
+          contact::find_master<D>(x.col(pair.slave.nodes[i]), pair.master, pair.tree, x, pair.search, normals[i]));
     contact::write_contact_state_vtu<D>(directory_ / fmt::format("vtu/contact_{:06d}_pair{}.vtu", state.step, p),
                                         pair.slave.nodes, x, matches);
   }

@@ -1,6 +1,7 @@
 #pragma once
 /// What a run writes: the per-step CSV history and VTU snapshots with a
-/// PVD time series (points are the current configuration).
+/// PVD time series (points are the current configuration; cells are the
+/// bodies' simplices, then the facets of bare rigid surfaces).
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -9,7 +10,7 @@
 #include "contact/active_set.hpp"
 #include "io/history_writer.hpp"
 #include "io/vtu_writer.hpp"
-#include "solver/newton.hpp"
+#include "simulation/stepper.hpp"
 #include "time/diagnostics.hpp"
 
 namespace conserve::simulation {
@@ -17,12 +18,6 @@ namespace conserve::simulation {
 /// Column names of history.csv, in order: the totals, then each body's
 /// linear momentum "L_x:NAME", "L_y:NAME", "L_z:NAME".
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {});
-
-/// What one step did, for the history.
-struct StepRecord {
-  solver::NewtonReport newton;
-  contact::StepContactStats contact;
-};
 
 template <int D>
 class OutputWriter {
@@ -50,6 +45,10 @@ class OutputWriter {
   [[nodiscard]] io::VtuField contact_field(int num_nodes) const;
   void write_contact_state(const model::State& state) const;
   const assembly::Assembler<D>& assembler_;
+  /// The facets of the bodies without cells (bare rigid surfaces), D × n,
+  /// written as cells after the model's, and the body of each.
+  Eigen::MatrixXi surface_facets_;
+  std::vector<int> surface_body_;
   const contact::ActiveSet<D>* contacts_;
   bool contact_state_;
   std::filesystem::path directory_;

@@ -3,7 +3,17 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace conserve::simulation {
+
+std::int64_t steps_left(double time, double end, double dt, std::int64_t taken, std::int64_t max_steps, bool last) {
+  if (last) return 0;
+  constexpr double kMost = 4611686018427387904.0;  // 2^62, exact in a double
+  const double by_time = std::clamp(std::ceil((end - time) / dt - 1e-6), 0.0, kMost);
+  return std::max<std::int64_t>(1, std::min(static_cast<std::int64_t>(by_time), max_steps - taken));
+}
 
 ProgressLine::ProgressLine(std::FILE* out, int every)
     : out_(out),
@@ -24,8 +34,7 @@ void ProgressLine::update(const ProgressPoint& p) {
   last_ = now;
   const double t = elapsed();
   const double eta = p.last ? 0.0 : (p.fraction > 0.0 ? t * (1.0 - p.fraction) / p.fraction : 0.0);
-  fmt::print(out_,
-             "{}step {}/{}  t = {:.4g} s  {:.0f}%  |ΔE|/E = {:.2e}  Newton {}  elapsed {:.1f} s  ETA {:.1f} s{}",
+  fmt::print(out_, "{}step {}/{}  t = {:.4g} s  {:.0f}%  |ΔE|/E = {:.2e}  Newton {}  elapsed {:.1f} s  ETA {:.1f} s{}",
              tty_ ? "\r" : "", p.step, p.expected_steps, p.time, 100.0 * p.fraction, p.energy_drift,
              p.newton_iterations, t, eta, tty_ ? "  " : "\n");
   std::fflush(out_);

@@ -3,20 +3,28 @@
 /// iterations, elapsed time and ETA, about once a second (or every N steps).
 /// On a terminal it rewrites one line; otherwise it prints lines.
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 
 namespace conserve::simulation {
 
 /// Where a run stands, as the progress line shows it.
 struct ProgressPoint {
-  int step = 0;              ///< steps done since t = 0
-  int expected_steps = 0;    ///< step number the run is expected to end at (grows after cutbacks)
-  double time = 0.0;         ///< simulated time [s]
-  double fraction = 0.0;     ///< share of this invocation's work done, in [0, 1]
-  double energy_drift = 0.0; ///< running max of |ΔE|/E
-  int newton_iterations = 0; ///< of the last step
-  bool last = false;         ///< the last step of the run: always printed
+  std::int64_t step = 0;            ///< steps done since t = 0
+  std::int64_t expected_steps = 0;  ///< step number the run is expected to end at (grows after cutbacks)
+  double time = 0.0;                ///< simulated time [s]
+  double fraction = 0.0;            ///< share of this invocation's work done, in [0, 1]
+  double energy_drift = 0.0;        ///< running max of |ΔE|/E
+  int newton_iterations = 0;        ///< of the last step
+  bool last = false;                ///< the last step of the run: always printed
 };
+
+/// Steps an invocation still has to take after `taken` of its own, the
+/// last of which reached `time` [s]: to the end time `end` [s] at the
+/// current step size `dt` [s] (a last step may overshoot), but at most
+/// `max_steps` − `taken`; at least 1 unless `last`, 0 if `last`. Saturates
+/// at 2^62 instead of overflowing (a step size far below end/2^62).
+std::int64_t steps_left(double time, double end, double dt, std::int64_t taken, std::int64_t max_steps, bool last);
 
 class ProgressLine {
  public:

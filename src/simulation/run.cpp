@@ -2,26 +2,31 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
-#include <fstream>
+#include <limits>
 #include <memory>
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "io/history_writer.hpp"
 #include "simulation/checkpoint.hpp"
-#include "simulation/contact_setup.hpp"
 #include "simulation/output.hpp"
 #include "simulation/progress.hpp"
+#include "simulation/contact_setup.hpp"
 #include "simulation/setup.hpp"
+#include "simulation/stepper.hpp"
 #include "time/diagnostics.hpp"
 #include "time/integrator.hpp"
 
 namespace conserve::simulation {
 namespace {
 
-int step_count(const io::TimeSpec& t) {
+/// end / step, rounded up (unless within round-off of an integer); the
+/// parser keeps it at most 2^53.
+std::int64_t step_count(const io::TimeSpec& t) {
   const double n = t.end / t.step;
-  return static_cast<int>(std::abs(n - std::round(n)) < 1e-9 * n ? std::round(n) : std::ceil(n));
+  return static_cast<std::int64_t>(std::abs(n - std::round(n)) < 1e-9 * n ? std::round(n) : std::ceil(n));
 }
 
 /// Running maxima of the relative drifts against the initial values.
@@ -46,104 +51,29 @@ class DriftTracker {
   double energy_scale_, linear_scale_, angular_scale_;
 };
 
-/// The run's figures as JSON (for bench/ and scripts).
-void write_summary(const RunSummary& s, int dofs, const std::filesystem::path& file) {
-  const auto& t = s.timings;
-  std::ofstream out(file);
-  out << fmt::format(
-      "{{\n  \"steps\": {},\n  \"unknowns\": {},\n  \"wall_seconds\": {:.6g},\n"
-      "  \"mean_newton_iterations\": {:.6g},\n  \"max_newton_iterations\": {},\n"
-      "  \"energy_drift\": {:.6e},\n  \"linear_drift\": [{:.6e}, {:.6e}, {:.6e}],\n"
-      "  \"angular_drift\": [{:.6e}, {:.6e}, {:.6e}],\n  \"activations\": {},\n  \"releases\": {},\n"
-      "  \"max_activation_gap\": {:.6e},\n  \"seconds\": {{\"assembly\": {:.6g}, \"elimination\": {:.6g}, "
-      "\"factorization\": {:.6g}, \"solve\": {:.6g}, \"contact_search\": {:.6g}, \"output\": {:.6g}}},\n"
-      "  \"factorizations\": {},\n  \"symbolic_analyses\": {},\n  \"cutbacks\": {},\n  \"min_dt\": {:.6e}\n}}\n",
-      s.steps, dofs, s.wall_seconds, s.mean_newton_iterations, s.max_newton_iterations, s.energy_drift,
-      s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
-      s.angular_drift.z(), s.activations, s.releases, s.max_activation_gap, t.assembly, t.elimination, t.factorization,
-      t.solve, t.contact_search, s.output_seconds, t.factorizations, t.analyses, s.cutbacks, s.min_dt);
-}
-
-solver::NewtonSettings newton_settings(const io::NewtonSpec& n) {
-  solver::NewtonSettings s{.max_iterations = n.max_iterations, .residual_tolerance = n.residual_tolerance};
-  s.reuse_factorization = n.reuse_factorization;
-  return s;
-}
-
-fem::StressScheme stress_scheme(io::StressScheme s) {
-  return s == io::StressScheme::midpoint ? fem::StressScheme::midpoint : fem::StressScheme::conserving;
-}
-
-/// The run's contact set and integrator, and the step control around them.
-template <int D>
-struct Stepper {
-  const io::Scenario& scenario;
-  const model::Model<D>& model;
-  contact::ActiveSet<D>& contacts;
-  time::Integrator<D>& integrator;
-  StepControl& control;
-  double nominal_dt;  ///< the scenario's Δt
-  double min_dt;      ///< the cutback floor
-};
-
-/// The last converged state could not be advanced even at the floor.
-struct FloorReached {
-  std::string reason;  ///< the last SolverError's message
-  double dt;           ///< the step size that failed
-};
-
-/// One converged step from `state`: retried from the same state (and the
-/// same active set) with Δt halved after each failure; Δt doubles back
-/// towards the nominal one after StepControl::kGrowAfter good steps.
-/// `dt_used` and `failures` tell what it took. Throws FloorReached.
-template <int D>
-StepRecord advance(Stepper<D>& s, model::State& state, double& dt_used, int& failures) {
-  const std::vector<contact::Constraint<D>> saved = s.contacts.constraints();
-  failures = 0;
-  for (;;) {
-    try {
-      dt_used = s.control.dt;
-      StepRecord record{s.integrator.step(state, dt_used), s.integrator.contact_stats()};
-      if (++s.control.good_steps >= StepControl::kGrowAfter && s.control.dt < s.nominal_dt) {
-        s.control.dt = std::min(2.0 * s.control.dt, s.nominal_dt);
-        s.control.good_steps = 0;
-        s.integrator.drop_factorization();
-      }
-      return record;
-    } catch (const SolverError& e) {
-      s.contacts.set_constraints(saved);
-      s.integrator.drop_factorization();
-      if (0.5 * s.control.dt < s.min_dt) throw FloorReached{e.what(), s.control.dt};
-      s.control.dt *= 0.5;
-      s.control.good_steps = 0;
-      ++s.control.cutbacks;
-      ++failures;
-    }
-  }
-}
-
 /// True once `state` has reached the end time (the last step may overshoot
 /// it, as with a fixed Δt that does not divide the end time).
 bool finished(const io::TimeSpec& t, const model::State& state) { return state.time >= t.end - 1e-6 * t.step; }
 
 template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
-  const Problem<D> problem = setup<D>(sc);
-  const assembly::Assembler<D> assembler(problem.model, sc.time.mass == io::MassKind::lumped);
-  contact::ActiveSet<D> contacts(problem.model, make_contact_pairs<D>(sc, problem.model));
-  time::Integrator<D> integrator(assembler, stress_scheme(sc.time.scheme), newton_settings(sc.newton), &contacts,
-                                 sc.active_set.max_passes);
+  const auto started = std::chrono::system_clock::now();
+  Stepper<D> stepper(sc);
+  const Problem<D>& problem = stepper.problem();
+  const assembly::Assembler<D>& assembler = stepper.assembler();
+  contact::ActiveSet<D>& contacts = stepper.contacts();
+  time::Integrator<D>& integrator = stepper.integrator();
+  StepControl& control = stepper.control();
   RunSummary summary;
   summary.output_directory = options.output_directory.value_or(sc.output.directory);
   const std::filesystem::path& dir = summary.output_directory;
-  const std::uint64_t hash = scenario_hash<D>(sc, problem.model);
+  const Fingerprint fingerprint = scenario_fingerprint<D>(sc, problem.model);
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(d0);
-  StepControl control{.dt = sc.time.step};
   RunTotals totals;
   if (options.restart) {
-    Checkpoint<D> c = read_checkpoint<D>(*options.restart, hash, problem.model);
+    Checkpoint<D> c = read_checkpoint<D>(*options.restart, fingerprint, problem.model);
     state = std::move(c.state);
     control = c.control;
     totals = c.totals;
@@ -151,32 +81,32 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     io::resume_history(dir / "history.csv", state.step);
     io::resume_history(dir / "steps.csv", state.step);
   }
+  const RunOrigin origin = run_origin(sc, started);  // reads the mesh files: before anything is written
   OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contacts.empty() ? nullptr : &contacts,
-                         sc.output.contact_state,
-                         options.restart ? std::optional<double>(state.time) : std::nullopt);
+                         sc.output.contact_state, options.restart ? std::optional<double>(state.time) : std::nullopt);
+  io::write_atomically(dir / "scenario.toml", sc.text);
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
-  const int max_steps = options.max_steps.value_or(1 << 30);
+  const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
     output.write(state, d0, StepRecord{}, finished(sc.time, state) || max_steps == 0);
     steps_csv.write_row({0.0, state.time, 0.0, 0.0});
   }
   auto save = [&](const model::State& s, std::vector<contact::Constraint<D>> constraints) {
     const auto file = checkpoint_path(dir, s.step);
-    write_checkpoint<D>(file, {hash, s, control, totals, std::move(constraints)});
+    write_checkpoint<D>(file, {fingerprint, s, control, totals, std::move(constraints)});
     return file;
   };
-  Stepper<D> stepper{sc, problem.model, contacts, integrator, control, sc.time.step, sc.time.min_step};
   ProgressLine progress(options.progress, sc.output.progress_every);
   const double start_time = state.time;
   summary.min_dt = control.dt;
-  const int first_cutbacks = control.cutbacks;
-  int taken = 0;
+  const std::int64_t first_cutbacks = control.cutbacks;
+  std::int64_t taken = 0;
   for (; taken < max_steps && !finished(sc.time, state); ++taken) {
     double dt = 0.0;
     int failures = 0;
     StepRecord record;
     try {
-      record = advance<D>(stepper, state, dt, failures);
+      record = stepper.advance(state, dt, failures);
     } catch (const FloorReached& f) {
       progress.finish();
       output.write_snapshot(state);
@@ -184,7 +114,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
       throw SolverError(fmt::format(
           "step {} failed even with Δt = {:.6g} s ([time].min_step = {:.6g} s): {}; the last converged state "
           "(step {}, t = {:.9g} s) is in {} and {} (continue with --restart)",
-          state.step + 1, f.dt, sc.time.min_step, f.reason, state.step, state.time, (dir / "history.csv").string(),
+          state.step + 1, f.dt(), sc.time.min_step, f.what(), state.step, state.time, (dir / "history.csv").string(),
           file.string()));
     }
     summary.min_dt = std::min(summary.min_dt, dt);
@@ -210,23 +140,23 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     // This invocation ends at the end time or after max_steps, whichever
     // comes first; the steps left are estimated at the current Δt.
     const double by_time = (state.time - start_time) / (sc.time.end - start_time);
-    const double by_steps = static_cast<double>(taken + 1) / max_steps;
-    const long left_by_time = std::lround(std::ceil((sc.time.end - state.time) / control.dt - 1e-6));
-    const long left = last ? 0 : std::max(1L, std::min(left_by_time, long{max_steps} - taken - 1));
-    progress.update({.step = state.step,
-                     .expected_steps = static_cast<int>(state.step + left),
-                     .time = state.time,
-                     .fraction = last ? 1.0 : std::clamp(std::max(by_time, by_steps), 0.0, 1.0),
-                     .energy_drift = e,
-                     .newton_iterations = record.newton.iterations,
-                     .last = last});
+    const double by_steps = static_cast<double>(taken + 1) / static_cast<double>(max_steps);
+    progress.update(
+        {.step = state.step,
+         .expected_steps = state.step + steps_left(state.time, sc.time.end, control.dt, taken + 1, max_steps, last),
+         .time = state.time,
+         .fraction = last ? 1.0 : std::clamp(std::max(by_time, by_steps), 0.0, 1.0),
+         .energy_drift = e,
+         .newton_iterations = record.newton.iterations,
+         .last = last});
   }
   progress.finish();
   summary.steps = taken;
   summary.energy_drift = totals.energy_drift;
   summary.linear_drift = totals.linear_drift;
   summary.angular_drift = totals.angular_drift;
-  summary.mean_newton_iterations = totals.newton_iterations / std::max(state.step, 1);
+  summary.mean_newton_iterations =
+      totals.newton_iterations / static_cast<double>(std::max<std::int64_t>(state.step, 1));
   summary.max_newton_iterations = totals.max_newton_iterations;
   summary.activations = totals.activations;
   summary.releases = totals.releases;
@@ -234,7 +164,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.cutbacks = control.cutbacks - first_cutbacks;
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();
-  write_summary(summary, problem.model.num_dofs(), dir / "summary.json");
+  io::write_atomically(dir / "summary.json", summary_json(summary, problem.model.num_dofs(), origin));
   return summary;
 }
 

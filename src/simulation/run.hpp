@@ -1,42 +1,24 @@
 #pragma once
 /// Running a scenario end to end, and checking one without running it.
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 
 #include "core/types.hpp"
 #include "io/scenario.hpp"
-#include "solver/timings.hpp"
+#include "simulation/summary.hpp"
 
 namespace conserve::simulation {
 
 struct RunOptions {
   std::optional<std::filesystem::path> output_directory;  ///< overrides [output].directory
   std::FILE* progress = stderr;                           ///< nullptr: silent
-  std::optional<int> max_steps;                           ///< stop after this many steps of this invocation
+  std::optional<std::int64_t> max_steps;                  ///< stop after this many steps of this invocation
   /// Continue from this checkpoint (simulation/checkpoint.hpp): the state,
   /// step size and active set are restored, history.csv and steps.csv keep
   /// their rows up to the checkpoint's step and continue after it.
   std::optional<std::filesystem::path> restart;
-};
-
-/// What a finished run measured.
-struct RunSummary {
-  int steps = 0;
-  double wall_seconds = 0.0;
-  double energy_drift = 0.0;          ///< max |E − E0| / |E0| (or / max(K+W) if E0 = 0)
-  Vec3 linear_drift = Vec3::Zero();   ///< per component, max |L_i − L_i0| / max(|L|, p_ref)
-  Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / max(|J|, j_ref)
-  double mean_newton_iterations = 0.0;
-  int max_newton_iterations = 0;
-  int activations = 0;              ///< contact activations over the run
-  int releases = 0;                 ///< contact releases over the run
-  double max_activation_gap = 0.0;  ///< largest gap of a slave at activation [m]
-  std::filesystem::path output_directory;
-  solver::Timings timings;      ///< where the wall time went
-  double output_seconds = 0.0;  ///< writing history and VTU files
-  int cutbacks = 0;             ///< failed step attempts retried with Δt halved
-  double min_dt = 0.0;          ///< smallest step size used [s]
 };
 
 /// Runs the scenario, writing history.csv, steps.csv (step, time, dt,
@@ -51,7 +33,8 @@ RunSummary run(const io::Scenario& scenario, const RunOptions& options);
 /// The model a scenario describes, without running it.
 struct CheckSummary {
   int dimension = 3;
-  int bodies = 0, nodes = 0, cells = 0, dofs = 0, prescribed_dofs = 0, steps = 0;
+  int bodies = 0, nodes = 0, cells = 0, dofs = 0, prescribed_dofs = 0;
+  std::int64_t steps = 0;   ///< end / step, rounded up
   double total_mass = 0.0;  ///< [kg]
 };
 

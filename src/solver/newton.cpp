@@ -15,7 +15,8 @@ constexpr const char* kIterate = "not converged";
 /// empty if it is one (converged), or kIterate to iterate on. At the
 /// round-off floor the iteration goes on while it still halves the
 /// residual (the floor is an upper estimate), so that a step ends as close
-/// to the solution as double precision allows.
+/// to the solution as double precision allows; then the residual is
+/// accepted if it is at most floor_limit · floor_scale.
 std::string judge(NewtonReport& report, double floor_scale, const NewtonSettings& settings) {
   const auto& norms = report.residual_norms;
   const double r = norms.back();
@@ -23,12 +24,12 @@ std::string judge(NewtonReport& report, double floor_scale, const NewtonSettings
   if (r <= report.tolerance) return {};
   if (r <= report.floor) {
     const bool stagnates = norms.size() > 1 && r > 0.5 * norms[norms.size() - 2];
-    const bool last = report.iterations == settings.max_iterations;
-    if (report.floor <= settings.floor_limit * floor_scale) return stagnates || last ? "" : kIterate;
+    if (!stagnates && report.iterations < settings.max_iterations) return kIterate;
+    if (r <= settings.floor_limit * floor_scale) return {};
     return fmt::format(
-        "the residual's round-off floor, {:.2e} N, is above {:g} of the step's force scale {:.2e} N: the model "
-        "is too stiff for double precision at this time step",
-        report.floor, settings.floor_limit, floor_scale);
+        "the residual stays at its round-off floor, {:.2e} N, above {:g} of the step's force scale {:.2e} N: the "
+        "model is too stiff for double precision at this time step",
+        r, settings.floor_limit, floor_scale);
   }
   return kIterate;
 }

@@ -24,9 +24,9 @@ class NewtonProblem {
   /// Round-off floor of the last residual's norm [N]: below it the residual
   /// cannot be computed, so no iteration can bring it lower.
   [[nodiscard]] virtual double residual_floor() const = 0;
-  /// The force the floor is judged against [N] (≥ force_scale; infinite
-  /// when nothing moves): a residual at its floor is a solution only if the
-  /// floor is at most floor_limit times this.
+  /// The force a residual at its floor is judged against [N] (≥
+  /// force_scale; infinite when nothing moves): it is a solution only if it
+  /// is at most floor_limit times this.
   [[nodiscard]] virtual double floor_scale() const { return force_scale(); }
 };
 
@@ -34,9 +34,10 @@ struct NewtonSettings {
   int max_iterations = 20;
   /// Converged when |r| ≤ residual_tolerance · force_scale.
   double residual_tolerance = 1e-12;
-  /// Or when |r| is at its round-off floor, provided that floor is at most
-  /// floor_limit · floor_scale: a residual that cannot be computed to 1e-6
-  /// is no solution (a model too stiff for double precision at this Δt).
+  /// Or when |r| is at its round-off floor and no longer halves, provided
+  /// it is at most floor_limit · floor_scale: a residual that cannot be
+  /// brought to 1e-6 of the forces at play is no solution (a model too
+  /// stiff for double precision at this Δt).
   double floor_limit = 1e-6;
   /// Modified Newton: keep the last factorization (across iterations and
   /// steps) while each iteration reduces the residual by at least
@@ -60,8 +61,9 @@ struct NewtonReport {
   [[nodiscard]] double final_residual() const { return residual_norms.empty() ? 0.0 : residual_norms.back(); }
 };
 
-/// Iterates until |r| ≤ max(residual_tolerance · force_scale, floor) with
-/// floor ≤ floor_limit · floor_scale. The residual criterion alone decides:
+/// Iterates until |r| ≤ residual_tolerance · force_scale, or until |r| is
+/// at its round-off floor, no longer halves, and is at most floor_limit ·
+/// floor_scale. The residual criterion alone decides:
 /// a small increment never ends the iteration. Does not throw on
 /// non-convergence: the report says so and why, and the caller decides.
 /// `reusable`: the solver's current factorization belongs to a matrix of the

@@ -1,5 +1,6 @@
 #include "time/step_problem.hpp"
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace conserve::time {
@@ -34,7 +35,10 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
 
 template <int D>
 double StepProblem<D>::floor_scale() const {
-  if (!(motion_ > 0.0)) return std::numeric_limits<double>::infinity();
+  // Motion below the round-off of the positions does no work (a body at
+  // rest: every scale is round-off there).
+  const double still = 1e-14 * assembler_.model().size() * std::sqrt(static_cast<double>(du_.size()));
+  if (!(motion_ > still)) return std::numeric_limits<double>::infinity();
   return std::max(force_scale_, energy_n_ / motion_);
 }
 

@@ -35,11 +35,11 @@ class StepProblem final : public solver::NewtonProblem {
   /// their unit-strain forces, inertia and loads), masked: |r| cannot be
   /// computed more accurately than this [N].
   [[nodiscard]] double residual_floor() const override { return floor_; }
-  /// The floor is judged by the energy error it can cause, |floor|·|Δu|
-  /// (Δu of the free dofs: the prescribed ones' residual is masked),
+  /// A residual at its floor is judged by the energy error it can cause,
+  /// |r|·|Δu| (Δu of the free dofs: the prescribed ones' residual is masked),
   /// against the step's energy, max(K_n + W_n + |Π_n|, force_scale·|Δu|):
   /// the force scale, or (K_n + W_n + |Π_n|)/|Δu| if larger (infinite when
-  /// nothing moves, since then no work is done).
+  /// nothing moves beyond the round-off of the positions: no work is done).
   [[nodiscard]] double floor_scale() const override;
   /// The full residual g at the last residual() call: on an active slave,
   /// the contact force it receives (33) [N].

@@ -6,30 +6,14 @@
 #include <algorithm>
 
 #include "support/cli.hpp"
+#include "support/cube_scenario.hpp"
 
 namespace conserve::test {
 namespace {
 
 using ::testing::HasSubstr;
 
-const std::string kGoodScenario = R"(title = "cube"
-dimension = 3
-[time]
-step = 0.01
-end = 0.03
-[output]
-vtu_every = 0
-[[body]]
-name = "cube"
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-file = "cube.msh"
-)";
-
-std::string cube_msh() { return slurp(std::string(CONSERVE_SOURCE_DIR) + "/tests/data/msh/cube_ascii.msh"); }
+const std::string& kGoodScenario = kCubeScenario;
 
 /// Writes scenario.toml (and cube.msh) into a scratch folder, runs `check`.
 CliResult check_with(const std::string& name, const std::string& scenario, const std::string& msh) {

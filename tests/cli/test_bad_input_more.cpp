@@ -248,6 +248,23 @@ TEST(BadInputMore, RunOnBadInputWritesNothing) {
   }
 }
 
+/// A body name that history.csv's header cannot carry is refused by both
+/// commands before anything is written (it used to pass `check` and make
+/// `run` die with exit code 4 after creating the output folder).
+TEST(BadInputMore, BodyNameTheOutputsCannotCarry) {
+  const auto dir = scratch("more_bad_name");
+  std::string scenario = kTetScenario;
+  scenario.replace(scenario.find("name = \"tet\""), 12, "name = \"big, tet\"");
+  write_file(dir / "scenario.toml", scenario);
+  write_file(dir / "tet.msh", one_tet(kTags, kCoords, "1 2 3 4"));
+  for (const std::string& args : {"check scenario.toml", "run scenario.toml -q -o out"}) {
+    SCOPED_TRACE(args);
+    const CliResult r = run_cli(args, dir);
+    expect_one_line_error(r, "scenario.toml:6: body[0].name: 'big, tet' contains ',' (a comma)");
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  }
+}
+
 TEST(BadInputMore, RestartFromGarbage) {
   const auto dir = scratch("more_restart_garbage");
   write_file(dir / "scenario.toml", kTetScenario);

@@ -34,8 +34,7 @@ const std::string kGlancingDiscs =
 
 /// ball_on_plane("stick", 0.12): the first slave sticks at step 64, a
 /// second at 89.
-const std::string kBallOnPlane =
-    ball_on_plane("stick", 0.12) + "[output]\nvtu_every = 0\ncheckpoint_every = 25\n";
+const std::string kBallOnPlane = ball_on_plane("stick", 0.12) + "[output]\nvtu_every = 0\ncheckpoint_every = 25\n";
 
 /// Runs `scenario` once uninterrupted and once stopped after `stop` steps
 /// and restarted from the checkpoint of step `from`; both histories and
@@ -71,17 +70,46 @@ TEST(Restart, StickContactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_ball", kBallOnPlane, 80, 75);
 }
 
-TEST(Restart, RefusesACheckpointOfAnotherScenario) {
-  const auto dir = scratch("restart_other");
+/// Restarts from step 10 of kGlancingDiscs with `other` (kGlancingDiscs
+/// with `from` replaced by `to`): refused with one line containing `what`.
+void expect_refused_naming(const std::string& name, const std::string& from, const std::string& to,
+                           const std::string& what) {
+  const auto dir = scratch("restart_refused_" + name);
   write_file(dir / "s.toml", kGlancingDiscs);
   std::string other = kGlancingDiscs;
-  other.replace(other.find("young = 1.0e6"), 13, "young = 2.0e6");
+  ASSERT_NE(other.find(from), std::string::npos) << from;
+  other.replace(other.find(from), from.size(), to);
   write_file(dir / "other.toml", other);
   ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10", dir).exit_code, 0);
+  ASSERT_EQ(run_cli("check other.toml", dir).exit_code, 0);
   const CliResult r = run_cli("run other.toml -q -o b --restart a/checkpoints/ckpt_000010.bin", dir);
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("ckpt_000010.bin: bad checkpoint: written by another scenario"));
+  EXPECT_THAT(r.err, HasSubstr("ckpt_000010.bin: bad checkpoint: written by another scenario: " + what));
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "b")) << "a refused restart wrote output";
+}
+
+// A refused checkpoint names the setting that differs (issue 11).
+TEST(Restart, RefusalNamesAChangedTimeStep) {
+  expect_refused_naming("step", "step = 5e-4", "step = 1e-3",
+                        "the checkpoint was written with [time] step = 0.0005, this scenario has 0.001");
+}
+
+TEST(Restart, RefusalNamesAChangedMaterial) {
+  expect_refused_naming("material", "young = 1.0e6", "young = 2.0e6",
+                        "the checkpoint was written with body 'small' material = young 1000000 Pa, poisson 0.3, "
+                        "density 1000 kg/m³, this scenario has young 2000000 Pa, poisson 0.3, density 1000 kg/m³");
+}
+
+TEST(Restart, RefusalNamesAChangedContactKind) {
+  expect_refused_naming("kind", "kind = \"frictionless\"", "kind = \"stick\"",
+                        "the checkpoint was written with contact[0] kind = frictionless, this scenario has stick");
+}
+
+TEST(Restart, RefusalNamesChangedNodeCoordinates) {
+  // Only the nodes move: the cells, their volumes and all else are equal.
+  expect_refused_naming("nodes", "name = \"big\"\n", "name = \"big\"\ntranslate = [0.0, -0.001]\n",
+                        "body 'big' node coordinates differ");
 }
 
 TEST(Restart, RefusesACheckpointOfAnotherThicknessOrSolverPath) {
@@ -95,11 +123,13 @@ TEST(Restart, RefusesACheckpointOfAnotherThicknessOrSolverPath) {
   write_file(dir / "thick.toml", thick);
   write_file(dir / "reuse.toml", kGlancingDiscs + "[newton]\nreuse_factorization = true\n");
   ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10", dir).exit_code, 0);
-  for (const std::string other : {"thick.toml", "reuse.toml"}) {
+  for (const auto& [other, what] :
+       {std::pair<std::string, std::string>{"thick.toml", "body 'small' thickness = 1, this scenario has 0.5"},
+        {"reuse.toml", "[newton] reuse_factorization = false, this scenario has true"}}) {
     ASSERT_EQ(run_cli("check " + other, dir).exit_code, 0) << other;
     const CliResult r = run_cli("run " + other + " -q -o b --restart a/checkpoints/ckpt_000010.bin", dir);
     EXPECT_EQ(r.exit_code, 1) << other << ": " << r.err;
-    EXPECT_THAT(r.err, HasSubstr("written by another scenario")) << other;
+    EXPECT_THAT(r.err, HasSubstr("written by another scenario: the checkpoint was written with " + what)) << other;
   }
 }
 
@@ -179,8 +209,8 @@ TEST(Restart, KilledRunContinuesBitIdentically) {
     EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(header.begin(), header.end(), ',')) << row;
   const int killed_at = lines - 2;  // the last step with a history row
   ASSERT_GE(newest, 35);
-  std::printf("[ measured ] killed after step %d with %d VTU files; restarting from checkpoint %d\n", killed_at,
-              vtus, newest);
+  std::printf("[ measured ] killed after step %d with %d VTU files; restarting from checkpoint %d\n", killed_at, vtus,
+              newest);
   const std::string ckpt = fmt::format("part/checkpoints/ckpt_{:06d}.bin", newest);
   const CliResult rest = run_cli("run s.toml -q -o part --restart " + ckpt, dir);
   ASSERT_EQ(rest.exit_code, 0) << rest.err;
@@ -209,11 +239,9 @@ TEST(Restart, KeepsOnlyTheNewestCheckpoints) {
   // unrelated file in the folder is never touched.
   write_file(dir / "two/checkpoints/notes.txt", "mine");
   ASSERT_EQ(run_cli("run two.toml -q -o two --steps 5 --restart two/checkpoints/ckpt_000030.bin", dir).exit_code, 0);
-  EXPECT_EQ(checkpoint_files(dir / "two"),
-            (std::set<std::string>{"ckpt_000030.bin", "ckpt_000040.bin", "notes.txt"}));
+  EXPECT_EQ(checkpoint_files(dir / "two"), (std::set<std::string>{"ckpt_000030.bin", "ckpt_000040.bin", "notes.txt"}));
   ASSERT_EQ(run_cli("run two.toml -q -o two --steps 20 --restart two/checkpoints/ckpt_000030.bin", dir).exit_code, 0);
-  EXPECT_EQ(checkpoint_files(dir / "two"),
-            (std::set<std::string>{"ckpt_000040.bin", "ckpt_000050.bin", "notes.txt"}));
+  EXPECT_EQ(checkpoint_files(dir / "two"), (std::set<std::string>{"ckpt_000040.bin", "ckpt_000050.bin", "notes.txt"}));
 }
 
 }  // namespace

@@ -20,64 +20,12 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 /// A box above a rigid square (9 nodes, listed last) rising at 0.5 m/s.
-const std::string kBoxAndRisingSquare = R"(title = "box above a rising rigid square"
-dimension = 3
-[time]
-step = 0.01
-end = 0.2
-[loads]
-gravity = [0.0, 0.0, -9.81]
-[output]
-vtu_every = 5
-[[body]]
-name = "box"
-translate = [0.0, 0.0, 1.0]
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "box"
-lx = 0.4
-ly = 0.4
-lz = 0.3
-size = 0.2
-[[body]]
-name = "floor"
-rigid = true
-velocity = [0.0, 0.0, 0.5]
-[body.mesh]
-generator = "square"
-lx = 2.0
-ly = 2.0
-size = 1.0
-)";
+const std::string kBoxAndRisingSquare =
+    slurp(CONSERVE_SOURCE_DIR "/tests/data/scenarios/rigid_box_and_rising_square.toml");
 
 /// A 2D disc above a rigid segment (5 nodes, listed last) moving along x.
-const std::string kDiscAndSlidingSegment = R"(dimension = 2
-[time]
-step = 0.01
-end = 0.05
-[[body]]
-name = "disc"
-translate = [0.0, 1.0]
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "disc"
-radius = 0.3
-size = 0.15
-[[body]]
-name = "ground"
-rigid = true
-velocity = [0.25, 0.0]
-[body.mesh]
-generator = "segment"
-lx = 2.0
-size = 0.5
-)";
+const std::string kDiscAndSlidingSegment =
+    slurp(CONSERVE_SOURCE_DIR "/tests/data/scenarios/rigid_disc_and_sliding_segment.toml");
 
 /// The Float64 point field `name` of a VTU file (3 values per point).
 std::vector<double> point_field(const std::string& xml, const std::string& name) {
@@ -175,7 +123,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 TEST(Rigid, RigidBodyWithAngularVelocityIsRejected) {
   expect_check_fails("rigid_spin",
                      replaced(kBoxAndRisingSquare, "rigid = true\n", "rigid = true\nangular_velocity = [0, 0, 1]\n"),
-                     "scenario.toml:26: body[1].angular_velocity: is not allowed on a rigid body");
+                     "scenario.toml:28: body[1].angular_velocity: is not allowed on a rigid body");
 }
 
 TEST(Rigid, CellLessDeformableBodyIsRejected) {

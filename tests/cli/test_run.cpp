@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "io/history_writer.hpp"
 #include "support/cli.hpp"
 
@@ -69,6 +71,40 @@ TEST(Run, ProgressLineWhenNotQuiet) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("step 3/3"));
   EXPECT_THAT(r.err, HasSubstr("ETA"));
+}
+
+/// kSpinningBox with `[time]` replaced by step = `step`, end = `end`.
+std::string spinning_box_until(const std::string& step, const std::string& end) {
+  std::string s = kSpinningBox;
+  s.replace(s.find("step = 0.01\nend = 0.4"), 21, "step = " + step + "\nend = " + end);
+  return s;
+}
+
+TEST(Check, CountsStepsBeyond32Bits) {
+  // end / step = 3e9 > 2^31: the count must not wrap around (issue 11).
+  const auto dir = scratch("check_many_steps");
+  write_file(dir / "long.toml", spinning_box_until("0.001", "3.0e6"));
+  const CliResult r = run_cli("check long.toml", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr(", 3000000000 steps\n"));
+}
+
+TEST(Check, RefusesMoreStepsThanTheHistoryCanNumber) {
+  // history.csv holds the step number as a double: exact up to 2^53.
+  const auto dir = scratch("check_too_many_steps");
+  write_file(dir / "endless.toml", spinning_box_until("1e-9", "1e9"));
+  const CliResult r = run_cli("check endless.toml", dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("endless.toml:5: time.end: 1e+18 steps"));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(Run, StepLimitBeyond32BitsIsAccepted) {
+  const auto dir = scratch("run_steps_limit");
+  write_file(dir / "box.toml", kSpinningBox);
+  const CliResult r = run_cli("run box.toml -o result -q --steps 3000000000", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("finished 40 steps"));
 }
 
 // Every scenario under examples/ runs a few steps (a smoke test).

@@ -136,6 +136,21 @@ TEST(History, MalformedRowNamesFileAndLine) {
   expect_line("", 1);
 }
 
+TEST(History, ResumesAfterAStepBeyond32Bits) {
+  // Steps past 2^31 (long runs, issue 11): the row of the restart step is
+  // found and kept, later rows are dropped.
+  const auto file = scratch_file("resume_big.csv");
+  write_text(file, "step,x\n2999999999,1\n3000000000,2\n3000000001,3\n");
+  resume_history(file, 3'000'000'000LL);
+  {
+    HistoryWriter writer(file, {"step", "x"});
+    writer.write_row({3000000001.0, 4.0});
+  }
+  const History h = read_history(file);
+  EXPECT_EQ(h.column("step"), (std::vector<double>{2999999999.0, 3000000000.0, 3000000001.0}));
+  EXPECT_EQ(h.column("x"), (std::vector<double>{1.0, 2.0, 4.0}));
+}
+
 TEST(History, MissingFileThrowsInputError) {
   EXPECT_THROW(read_history(scratch_file("does_not_exist.csv")), InputError);
 }

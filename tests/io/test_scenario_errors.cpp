@@ -168,6 +168,30 @@ TEST(ScenarioErrors, EmptyBodyName) {
   EXPECT_TRUE(fails_with(replace_line(minimal(), 5, "name = \"\""), 5, "body[0].name", "is empty"));
 }
 
+TEST(ScenarioErrors, BodyNameTheOutputsCannotCarry) {
+  // history.csv's header (L_x:NAME), the "body:group" syntax of contact
+  // surfaces and one-line messages limit what a name may hold (issue 11).
+  const auto name = [](std::string_view line) { return replace_line(minimal(), 5, line); };
+  EXPECT_TRUE(fails_with(name("name = \"big, cube\""), 5, "body[0].name", "'big, cube' contains ',' (a comma)"));
+  EXPECT_TRUE(fails_with(name("name = 'say \"hi\"'"), 5, "body[0].name", "contains '\"' (a double quote)"));
+  EXPECT_TRUE(fails_with(name("name = \"ball:outer\""), 5, "body[0].name", "'ball:outer' contains ':' (a colon)"));
+  EXPECT_TRUE(fails_with(name("name = \"two\\nlines\""), 5, "body[0].name", "contains U+000A (a control character)"));
+  EXPECT_TRUE(fails_with(name("name = \"tab\\tbed\""), 5, "body[0].name", "contains U+0009 (a control character)"));
+  EXPECT_TRUE(fails_with(name("name = \"del\\u007f\""), 5, "body[0].name", "contains U+007F (a control character)"));
+  EXPECT_TRUE(fails_with(name("name = \" ball\""), 5, "body[0].name", "' ball' starts with a space"));
+  EXPECT_TRUE(fails_with(name("name = \"ball \""), 5, "body[0].name", "'ball ' ends with a space"));
+  EXPECT_NO_THROW(parse_scenario(name("name = \"Kugel (hohl) #2\""), case_file()));
+}
+
+TEST(ScenarioErrors, GroupNameTheOutputsCannotCarry) {
+  EXPECT_TRUE(fails_with(minimal("[[boundary]]\nbody = \"a\"\ngroup = \"top,side\"\n"), 14, "boundary[0].group",
+                         "'top,side' contains ',' (a comma)"));
+  EXPECT_TRUE(fails_with(minimal("[[contact]]\nslave = \"a:top\\r\"\nmaster = \"a\"\nkind = \"stick\"\n"), 13,
+                         "contact[0].slave", "contains U+000D (a control character)"));
+  EXPECT_TRUE(fails_with(minimal("[[contact]]\nslave = \"a:top\"\nmaster = \"a:x:y\"\nkind = \"stick\"\n"), 14,
+                         "contact[0].master", "group 'x:y' contains ':' (a colon)"));
+}
+
 TEST(ScenarioErrors, ZeroBodies) {
   EXPECT_TRUE(fails_with(std::string(test::kTime), 1, "body", "missing key (expected one or more [[body]] tables)"));
   EXPECT_TRUE(fails_with(std::string(test::kTime) + "[output]\nvtu_every = 1\n", 1, "body", "missing key"));

@@ -1,6 +1,7 @@
 /// VTU/PVD output, decoded back from the XML and compared bit for bit.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -110,6 +111,37 @@ TEST(VtuWriter, LinesAndVertices) {
     EXPECT_EQ(decode_array<std::uint8_t>(test::slurp(dir / "vertices.vtu"), "Name=\"types\""),
               std::vector<std::uint8_t>(static_cast<std::size_t>(n), 1));
   }
+}
+
+TEST(VtuWriter, MixedCellsTakeTheirOwnNodeCounts) {
+  // Tetrahedra of a body and the triangles of a bare rigid surface in one
+  // grid (issue 11): each column of `cells` uses its first nodes_per_cell
+  // entries; the rest of a column is not read.
+  VtuGrid grid = two_tetrahedra();
+  grid.cells.conservativeResize(4, 4);
+  grid.cells.col(2) << 0, 1, 4, -1;
+  grid.cells.col(3) << 2, 3, -7, 99;
+  grid.nodes_per_cell = {4, 4, 3, 2};
+  grid.cell_data[0].values = {1.0, 2.0, std::nan(""), -0.0};
+  const auto file = test::scratch("vtu_mixed") / "grid.vtu";
+  write_vtu(file, grid);
+  const auto xml = test::slurp(file);
+  EXPECT_NE(xml.find("NumberOfPoints=\"5\" NumberOfCells=\"4\""), std::string::npos);
+  EXPECT_EQ(decode_array<std::int64_t>(xml, "Name=\"connectivity\""),
+            (std::vector<std::int64_t>{0, 1, 2, 3, 1, 2, 3, 4, 0, 1, 4, 2, 3}));
+  EXPECT_EQ(decode_array<std::int64_t>(xml, "Name=\"offsets\""), (std::vector<std::int64_t>{4, 8, 11, 13}));
+  EXPECT_EQ(decode_array<std::uint8_t>(xml, "Name=\"types\""), (std::vector<std::uint8_t>{10, 10, 5, 3}));
+  expect_same_bits(decode_array<double>(xml, "Name=\"energy density\""), grid.cell_data[0].values);
+}
+
+TEST(VtuWriter, BadNodesPerCellThrowsError) {
+  VtuGrid grid = two_tetrahedra();
+  grid.nodes_per_cell = {4};  // one count for two cells
+  EXPECT_THROW(write_vtu(test::scratch("vtu_bad_counts") / "a.vtu", grid), Error);
+  grid.nodes_per_cell = {4, 5};  // more nodes than the column holds
+  EXPECT_THROW(write_vtu(test::scratch("vtu_bad_counts") / "a.vtu", grid), Error);
+  grid.nodes_per_cell = {4, 0};
+  EXPECT_THROW(write_vtu(test::scratch("vtu_bad_counts") / "a.vtu", grid), Error);
 }
 
 TEST(VtuWriter, NoTemporaryFileLeftBehind) {

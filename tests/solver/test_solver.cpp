@@ -152,7 +152,7 @@ TEST(Newton, RoundOffFloorMustBeSmallAgainstTheForceScale) {
   p.scale_ = 1e-10;  // the same residual, but the floor is above 1e-6 of the force scale
   const NewtonReport too_stiff = solve_newton(p, s, settings);
   EXPECT_FALSE(too_stiff.converged);
-  EXPECT_NE(too_stiff.failure.find("round-off floor"), std::string::npos) << too_stiff.failure;
+  EXPECT_NE(too_stiff.failure.find("stays at its round-off floor"), std::string::npos) << too_stiff.failure;
 }
 
 // Non-finite residuals, increments or force scales fail the solve.

@@ -268,8 +268,7 @@ kind = ")" + kind + R"("
 
 /// A hollow elastic disc (2D, an annulus) thrown onto a rigid floor (a bare
 /// segment) at 4 m/s along x under gravity: it lands, rolls with full stick
-/// and hops; `step` is Δt [s]. At the largest Δt its impacts take Newton
-/// up to ~30 iterations from the constant-velocity predictor.
+/// and hops; `step` is Δt [s].
 inline std::string disc_rolling_on_floor(double step, double end) {
   return R"(dimension = 2
 [time]
@@ -277,8 +276,6 @@ step = )" + std::to_string(step) +
          R"(
 end = )" + std::to_string(end) +
          R"(
-[newton]
-max_iterations = 40
 [loads]
 gravity = [0.0, -9.81]
 [[body]]

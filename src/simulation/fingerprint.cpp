@@ -1,0 +1,167 @@
+#include "simulation/fingerprint.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+
+namespace conserve::simulation {
+namespace {
+
+/// FNV-1a over raw bytes.
+class Hasher {
+ public:
+  void bytes(const void* data, std::size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 1099511628211ULL;
+  }
+  template <class T>
+  void value(const T& v) {
+    bytes(&v, sizeof v);
+  }
+  void text(const std::string& s) {
+    value(static_cast<std::int64_t>(s.size()));
+    bytes(s.data(), s.size());
+  }
+  template <class M>
+  void matrix(const M& m) {
+    value(static_cast<std::int64_t>(m.rows()));
+    value(static_cast<std::int64_t>(m.cols()));
+    for (Eigen::Index j = 0; j < m.cols(); ++j)
+      for (Eigen::Index i = 0; i < m.rows(); ++i) value(m(i, j));
+  }
+  template <class T>
+  void vector(const std::vector<T>& v) {
+    value(static_cast<std::int64_t>(v.size()));
+    bytes(v.data(), sizeof(T) * v.size());
+  }
+  [[nodiscard]] std::uint64_t get() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 14695981039346656037ULL;
+};
+
+/// Collects the entries; each `add` hashes what its function feeds.
+class Builder {
+ public:
+  template <class F>
+  void add(std::string name, std::string value, F&& feed) {
+    Hasher h;
+    feed(h);
+    entries_.push_back({std::move(name), h.get(), std::move(value)});
+  }
+  /// A setting whose printable value is all there is to it.
+  void setting(std::string name, const std::string& value) {
+    add(std::move(name), value, [&](Hasher& h) { h.text(value); });
+  }
+  Fingerprint take() { return std::move(entries_); }
+
+ private:
+  Fingerprint entries_;
+};
+
+/// The first `n` components, "[a, b, c]" (shortest round-trip digits).
+std::string components(const Eigen::Vector3d& v, int n) {
+  return fmt::format("[{}]", fmt::join(v.data(), v.data() + n, ", "));
+}
+
+template <int D>
+std::string deformation(const Eigen::Matrix3d& f) {
+  std::vector<std::string> rows(D);
+  for (int i = 0; i < D; ++i) rows[i] = components(f.row(i).transpose(), D);
+  return fmt::format("[{}]", fmt::join(rows, ", "));
+}
+
+std::string material(const io::BodySpec& b) {
+  if (b.rigid && !(b.material.density > 0.0)) return "none (rigid, massless)";
+  return fmt::format("young {} Pa, poisson {}, density {} kg/m³", b.material.young, b.material.poisson,
+                     b.material.density);
+}
+
+template <int D>
+void add_body(Builder& f, const io::BodySpec& spec, const model::Model<D>& model, const model::Body& body) {
+  const std::string name = fmt::format("body '{}' ", body.name);
+  f.add(name + "material", material(spec), [&](Hasher& h) {
+    h.value(body.lame.lambda);
+    h.value(body.lame.mu);
+    h.value(body.density);
+  });
+  f.setting(name + "thickness", fmt::format("{}", spec.thickness));
+  f.setting(name + "velocity", components(spec.velocity, D));
+  f.setting(name + "angular_velocity",
+            D == 3 ? components(spec.angular_velocity, 3) : fmt::format("{}", spec.angular_velocity.z()));
+  f.setting(name + "initial_deformation", deformation<D>(spec.initial_deformation));
+  f.add(name + "node coordinates", "",
+        [&](Hasher& h) { h.matrix(model.X.middleCols(body.first_node, body.num_nodes)); });
+  f.add(name + "cells", "", [&](Hasher& h) { h.matrix(model.cells.middleCols(body.first_cell, body.num_cells)); });
+  f.add(name + "cell volumes", "", [&](Hasher& h) {  // hold the 2D thickness
+    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) h.value(model.geometry[c].volume);
+  });
+  f.add(name + "facet groups", "", [&](Hasher& h) {
+    for (const auto& [group, facets] : body.facet_groups) {
+      h.text(group);
+      h.matrix(facets);
+    }
+  });
+}
+
+void add_contact(Builder& f, std::size_t i, const io::ContactSpec& c) {
+  const std::string name = fmt::format("contact[{}] ", i);
+  f.setting(name + "surfaces",
+            fmt::format("slave {}:{}, master {}:{}", c.slave_body, c.slave_group, c.master_body, c.master_group));
+  f.setting(name + "kind", c.kind == io::ContactKind::stick ? "stick" : "frictionless");
+  f.setting(name + "depth_factor", fmt::format("{}", c.depth_factor));
+}
+
+const FingerprintEntry* find(const Fingerprint& f, const std::string& name) {
+  const auto it = std::find_if(f.begin(), f.end(), [&](const FingerprintEntry& e) { return e.name == name; });
+  return it == f.end() ? nullptr : &*it;
+}
+
+}  // namespace
+
+template <int D>
+Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& model) {
+  Builder f;
+  f.setting("dimension", fmt::format("{}", D));
+  std::vector<std::string> names;
+  for (const auto& b : model.bodies) names.push_back(b.name);
+  f.setting("bodies", fmt::format("{}", fmt::join(names, ", ")));
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) add_body<D>(f, sc.bodies[b], model, model.bodies[b]);
+  f.add("[loads] gravity", components(sc.gravity, D), [&](Hasher& h) { h.matrix(model.gravity); });
+  f.add("prescribed displacements", "", [&](Hasher& h) {  // [[boundary]] and rigid bodies
+    h.vector(model.prescribed.dofs);
+    h.vector(model.prescribed.value);
+    h.vector(model.prescribed.rate);
+  });
+  f.add("[time] step", fmt::format("{}", sc.time.step), [&](Hasher& h) { h.value(sc.time.step); });
+  f.setting("[time] scheme", sc.time.scheme == io::StressScheme::midpoint ? "midpoint" : "conserving");
+  f.setting("[time] mass", sc.time.mass == io::MassKind::lumped ? "lumped" : "consistent");
+  f.add("[newton] residual_tolerance", fmt::format("{}", sc.newton.residual_tolerance),
+        [&](Hasher& h) { h.value(sc.newton.residual_tolerance); });
+  // changes the iterates at round-off level
+  f.setting("[newton] reuse_factorization", sc.newton.reuse_factorization ? "true" : "false");
+  f.setting("contact pairs", fmt::format("{}", sc.contacts.size()));
+  for (std::size_t i = 0; i < sc.contacts.size(); ++i) add_contact(f, i, sc.contacts[i]);
+  return f.take();
+}
+
+std::string first_difference(const Fingerprint& checkpoint, const Fingerprint& scenario) {
+  for (const auto& was : checkpoint) {
+    const FingerprintEntry* is = find(scenario, was.name);
+    if (!is) return fmt::format("{} is not in this scenario", was.name);
+    if (is->hash == was.hash) continue;
+    if (!was.value.empty() && !is->value.empty() && was.value != is->value)
+      return fmt::format("the checkpoint was written with {} = {}, this scenario has {}", was.name, was.value,
+                         is->value);
+    return fmt::format("{} {}", was.name, was.name.back() == 's' ? "differ" : "differs");
+  }
+  for (const auto& is : scenario)
+    if (!find(checkpoint, is.name)) return fmt::format("{} is not in the checkpoint", is.name);
+  return {};
+}
+
+template Fingerprint scenario_fingerprint<2>(const io::Scenario&, const model::Model<2>&);
+template Fingerprint scenario_fingerprint<3>(const io::Scenario&, const model::Model<3>&);
+
+}  // namespace conserve::simulation

@@ -1,0 +1,68 @@
+#pragma once
+/// A scenario wired into a stepper: the model it describes, its assembler,
+/// contact set and integrator with the scenario's settings, and the step
+/// control around them (cutback). The one wiring used by `conserve run`
+/// (simulation/run.hpp) and by the tests, so that both step alike.
+#include <memory>
+#include <string>
+
+#include "contact/active_set.hpp"
+#include "core/error.hpp"
+#include "io/scenario.hpp"
+#include "simulation/checkpoint.hpp"
+#include "simulation/setup.hpp"
+#include "solver/newton.hpp"
+#include "time/integrator.hpp"
+
+namespace conserve::simulation {
+
+/// What one step did, for the history.
+struct StepRecord {
+  solver::NewtonReport newton;
+  contact::StepContactStats contact;
+};
+
+/// The last converged state could not be advanced even at the cutback
+/// floor [time].min_step.
+class FloorReached : public SolverError {
+ public:
+  FloorReached(const std::string& reason, double dt) : SolverError(reason), dt_(dt) {}
+  [[nodiscard]] double dt() const { return dt_; }  ///< the step size that failed [s]
+
+ private:
+  double dt_;
+};
+
+template <int D>
+class Stepper {
+ public:
+  /// Builds the model (simulation/setup.hpp) and its contact pairs; throws
+  /// InputError on bad input. `scenario` must outlive the stepper.
+  explicit Stepper(const io::Scenario& scenario);
+  Stepper(const Stepper&) = delete;
+  Stepper& operator=(const Stepper&) = delete;
+
+  [[nodiscard]] const io::Scenario& scenario() const { return scenario_; }
+  [[nodiscard]] const Problem<D>& problem() const { return problem_; }
+  [[nodiscard]] const assembly::Assembler<D>& assembler() const { return *assembler_; }
+  [[nodiscard]] contact::ActiveSet<D>& contacts() { return *contacts_; }
+  [[nodiscard]] time::Integrator<D>& integrator() { return *integrator_; }
+  /// Δt to try next and the cutback counters (saved in checkpoints).
+  [[nodiscard]] StepControl& control() { return control_; }
+
+  /// One converged step from `state`: retried from the same state (and the
+  /// same active set) with Δt halved after each failure; Δt doubles back
+  /// towards the scenario's after StepControl::kGrowAfter good steps.
+  /// `dt_used` and `failures` tell what it took. Throws FloorReached.
+  StepRecord advance(model::State& state, double& dt_used, int& failures);
+
+ private:
+  const io::Scenario& scenario_;
+  Problem<D> problem_;
+  std::unique_ptr<assembly::Assembler<D>> assembler_;
+  std::unique_ptr<contact::ActiveSet<D>> contacts_;
+  std::unique_ptr<time::Integrator<D>> integrator_;
+  StepControl control_;
+};
+
+}  // namespace conserve::simulation

@@ -1,0 +1,93 @@
+#include "simulation/summary.hpp"
+
+#include <ctime>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "core/build_info.hpp"
+#include "io/sha256.hpp"
+
+namespace conserve::simulation {
+namespace {
+
+using Json = nlohmann::ordered_json;  // keys in the order written
+
+Json vector3(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+Json input(const InputFile& f, bool with_body) {
+  Json j;
+  if (with_body) j["body"] = f.body;
+  j["path"] = f.path.string();
+  j["sha256"] = f.sha256;
+  return j;
+}
+
+/// The figures summary.json has always had (bench/make_table.py reads them).
+Json figures(const RunSummary& s, int unknowns) {
+  const auto& t = s.timings;
+  return Json{{"steps", s.steps},
+              {"unknowns", unknowns},
+              {"wall_seconds", s.wall_seconds},
+              {"mean_newton_iterations", s.mean_newton_iterations},
+              {"max_newton_iterations", s.max_newton_iterations},
+              {"energy_drift", s.energy_drift},
+              {"linear_drift", vector3(s.linear_drift)},
+              {"angular_drift", vector3(s.angular_drift)},
+              {"activations", s.activations},
+              {"releases", s.releases},
+              {"max_activation_gap", s.max_activation_gap},
+              {"seconds",
+               {{"assembly", t.assembly},
+                {"elimination", t.elimination},
+                {"factorization", t.factorization},
+                {"solve", t.solve},
+                {"contact_search", t.contact_search},
+                {"output", s.output_seconds}}},
+              {"factorizations", t.factorizations},
+              {"symbolic_analyses", t.analyses},
+              {"cutbacks", s.cutbacks},
+              {"min_dt", s.min_dt}};
+}
+
+}  // namespace
+
+RunOrigin run_origin(const io::Scenario& scenario, std::chrono::system_clock::time_point started) {
+  const auto absolute = [](const std::filesystem::path& p) { return std::filesystem::weakly_canonical(p); };
+  RunOrigin origin{.title = scenario.title,
+                   .started = utc_timestamp(started),
+                   .scenario = {.body = "", .path = absolute(scenario.file), .sha256 = io::sha256_hex(scenario.text)},
+                   .meshes = {}};
+  for (const auto& body : scenario.bodies) {
+    if (body.mesh.file.empty()) continue;
+    origin.meshes.push_back({body.name, absolute(body.mesh.file), io::file_sha256(body.mesh.file)});
+  }
+  return origin;
+}
+
+std::string utc_timestamp(std::chrono::system_clock::time_point t) {
+  const std::time_t seconds = std::chrono::system_clock::to_time_t(t);
+  std::tm tm{};
+  gmtime_r(&seconds, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+std::string summary_json(const RunSummary& s, int unknowns, const RunOrigin& origin) {
+  Json j{{"program",
+          {{"name", "conserve"},
+           {"version", std::string(build_info::version())},
+           {"commit", std::string(build_info::commit())}}},
+         {"started", origin.started},
+         {"title", origin.title},
+         {"host", {{"cores", std::thread::hardware_concurrency()}}}};
+  Json meshes = Json::array();
+  for (const auto& mesh : origin.meshes) meshes.push_back(input(mesh, true));
+  j["inputs"] = {{"scenario", input(origin.scenario, false)}, {"meshes", std::move(meshes)}};
+  j.update(figures(s, unknowns));
+  // NaN and ±inf are written as null; bytes that are not UTF-8 (a path)
+  // as U+FFFD rather than an exception.
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace conserve::simulation

@@ -1,0 +1,154 @@
+#!/usr/bin/python3
+"""ParaView's own reader (VTK's vtkXMLUnstructuredGridReader) and meshio on
+what `conserve run` writes: a deformable body above a rigid bare surface
+(2D: a disc above a `segment`, 3D: a box above a `square`), so that the
+rigid body's facets must be there as cells (issue 11), plus the contact
+state debug files.
+
+Usage: /usr/bin/python3 tests/cli/test_real_readers.py CONSERVE_BINARY
+(only /usr/bin/python3 has Debian's python3-vtk9 and python3-meshio).
+"""
+import math
+import pathlib
+import subprocess
+import sys
+import tempfile
+import unittest
+import xml.etree.ElementTree as ET
+
+import meshio
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+CONSERVE = None  # set from the command line
+VTK_VERTEX, VTK_LINE, VTK_TRIANGLE, VTK_TETRA = 1, 3, 5, 10
+
+SCENARIOS = pathlib.Path(__file__).resolve().parents[1] / "data" / "scenarios"
+# test_rigid.cpp's scenarios; the disc's also gets a contact pair (so that
+# contact-state files are written) and VTU output every 2 steps
+DISC_ON_SEGMENT = (SCENARIOS / "rigid_disc_and_sliding_segment.toml").read_text() + """[output]
+vtu_every = 2
+contact_state = true
+[[contact]]
+slave = "disc"
+master = "ground"
+kind = "frictionless"
+"""
+BOX_ON_SQUARE = (SCENARIOS / "rigid_box_and_rising_square.toml").read_text()
+
+
+def run(folder, text):
+    """Runs the scenario `text` in `folder`; returns the output folder."""
+    (folder / "s.toml").write_text(text)
+    done = subprocess.run([CONSERVE, "run", "s.toml", "-q", "-o", "out"], cwd=folder, capture_output=True,
+                          text=True, check=False)
+    if done.returncode != 0:
+        raise AssertionError(f"conserve run failed ({done.returncode}): {done.stderr}")
+    return folder / "out"
+
+
+def pvd_files(out):
+    """(time, VTU file) of every data set solution.pvd lists, in order."""
+    root = ET.parse(out / "solution.pvd").getroot()
+    return [(float(d.get("timestep")), out / d.get("file")) for d in root.iter("DataSet")]
+
+
+def read_vtk(path):
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutput()
+    if reader.GetErrorCode() != 0 or grid is None or grid.GetNumberOfPoints() == 0:
+        raise AssertionError(f"VTK could not read {path}")
+    return grid
+
+
+def cell_types(grid):
+    return [grid.GetCellType(i) for i in range(grid.GetNumberOfCells())]
+
+
+def cell_bounds(grid, type_):
+    """(min, max) over the points of the cells of one VTK type: what a
+    Surface representation shows (unlike the bounds of all points)."""
+    lo, hi = [math.inf] * 3, [-math.inf] * 3
+    for i in range(grid.GetNumberOfCells()):
+        if grid.GetCellType(i) != type_:
+            continue
+        b = grid.GetCell(i).GetBounds()
+        for k in range(3):
+            lo[k], hi[k] = min(lo[k], b[2 * k]), max(hi[k], b[2 * k + 1])
+    return lo, hi
+
+
+class RealReaders(unittest.TestCase):
+    def check_surface(self, grid, volume_type, surface_type, surfaces, body, lo, hi):
+        types = cell_types(grid)
+        self.assertEqual(types.count(surface_type), surfaces)
+        self.assertGreater(types.count(volume_type), 0)
+        self.assertEqual(len(types), types.count(surface_type) + types.count(volume_type))
+        cells = grid.GetCellData()
+        body_field = cells.GetArray("body")
+        stress = cells.GetArray("cauchy_stress")
+        energy = cells.GetArray("strain_energy_density")
+        self.assertEqual(stress.GetNumberOfComponents(), 9)
+        for i, t in enumerate(types):
+            if t == surface_type:
+                self.assertEqual(body_field.GetValue(i), body)
+                self.assertTrue(all(math.isnan(stress.GetComponent(i, k)) for k in range(9)))
+                self.assertTrue(math.isnan(energy.GetValue(i)))
+            else:
+                self.assertNotEqual(body_field.GetValue(i), body)
+                self.assertTrue(math.isfinite(energy.GetValue(i)))
+        b_lo, b_hi = cell_bounds(grid, surface_type)
+        for k in range(3):
+            self.assertAlmostEqual(b_lo[k], lo[k], delta=1e-9)
+            self.assertAlmostEqual(b_hi[k], hi[k], delta=1e-9)
+        # the surface lies within what the whole grid reports
+        g = grid.GetBounds()
+        self.assertTrue(g[0] <= b_lo[0] and b_hi[0] <= g[1] and g[2] <= b_lo[1] and b_hi[1] <= g[3])
+
+    def test_segment_is_four_lines_2d(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = run(pathlib.Path(tmp), DISC_ON_SEGMENT)
+            files = pvd_files(out)
+            self.assertEqual(len(files), 4)  # steps 0, 2, 4 and the last, 5
+            for t, f in files:
+                with self.subTest(file=f.name):
+                    grid = read_vtk(f)
+                    # the segment |x| <= 1 at y = 0, moved by 0.25 t along x
+                    self.check_surface(grid, VTK_TRIANGLE, VTK_LINE, 4, 1, [-1 + 0.25 * t, 0, 0],
+                                       [1 + 0.25 * t, 0, 0])
+                    mesh = meshio.read(f)
+                    self.assertEqual(len(mesh.cells_dict["line"]), 4)
+                    self.assertEqual(len(mesh.cells_dict["triangle"]), grid.GetNumberOfCells() - 4)
+            # contact state files: one vertex per slave node of the disc
+            states = sorted(out.glob("vtu/contact_*_pair0.vtu"))
+            self.assertEqual(len(states), 4)
+            for f in states:
+                with self.subTest(file=f.name):
+                    grid = read_vtk(f)
+                    self.assertGreater(grid.GetNumberOfPoints(), 4)
+                    self.assertEqual(set(cell_types(grid)), {VTK_VERTEX})
+                    self.assertEqual(grid.GetNumberOfCells(), grid.GetNumberOfPoints())
+                    for name in ("gap", "normal", "master_facet", "xi", "inside", "slave_node"):
+                        self.assertIsNotNone(grid.GetPointData().GetArray(name), name)
+                    mesh = meshio.read(f)
+                    self.assertEqual(len(mesh.cells_dict["vertex"]), grid.GetNumberOfPoints())
+
+    def test_square_is_eight_triangles_3d(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = run(pathlib.Path(tmp), BOX_ON_SQUARE)
+            files = pvd_files(out)
+            self.assertEqual(len(files), 5)  # steps 0, 5, 10, 15, 20
+            for t, f in files:
+                with self.subTest(file=f.name):
+                    grid = read_vtk(f)
+                    # 2 x 2 squares of two triangles each, |x|, |y| <= 1, z = 0.5 t
+                    self.check_surface(grid, VTK_TETRA, VTK_TRIANGLE, 8, 1, [-1, -1, 0.5 * t], [1, 1, 0.5 * t])
+                    mesh = meshio.read(f)
+                    self.assertEqual(len(mesh.cells_dict["triangle"]), 8)
+                    self.assertEqual(len(mesh.cells_dict["tetra"]), grid.GetNumberOfCells() - 8)
+
+
+if __name__ == "__main__":
+    CONSERVE = str(pathlib.Path(sys.argv.pop(1)).resolve())
+    unittest.main(verbosity=2)
