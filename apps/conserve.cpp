@@ -20,9 +20,13 @@ using conserve::simulation::RunSummary;
 void print_summary(const RunSummary& s) {
   fmt::print("finished {} steps in {:.2f} s ({:.2f} Newton iterations per step, at most {})\n", s.steps, s.wall_seconds,
              s.mean_newton_iterations, s.max_newton_iterations);
-  fmt::print("relative drift: E {:.2e}  L ({:.2e}, {:.2e}, {:.2e})  J ({:.2e}, {:.2e}, {:.2e})\n", s.energy_drift,
-             s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(), s.angular_drift.y(),
-             s.angular_drift.z());
+  fmt::print(
+      "relative drift: E {:.2e}  L ({:.2e}, {:.2e}, {:.2e})  J ({:.2e}, {:.2e}, {:.2e})  "
+      "(of E_ref = {:.3e} J, L_ref = {:.3e} kg m/s, J_ref = {:.3e} kg m²/s: the largest K + W, Σ|p| and Σ|p| × size "
+      "seen)\n",
+      s.energy_drift, s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(),
+      s.angular_drift.y(), s.angular_drift.z(), s.energy_reference, s.momentum_reference, s.angular_reference);
+  fmt::print("smallest det F {:.4g}\n", s.min_det_F);
   const auto& t = s.timings;
   fmt::print(
       "time: assembly {:.2f} s, contact elimination {:.2f} s, factorization {:.2f} s ({} numeric, {} symbolic), "
@@ -33,8 +37,11 @@ void print_summary(const RunSummary& s) {
     fmt::print("cutbacks: {} failed steps retried with a halved time step (smallest {:.3e} s), see steps.csv\n",
                s.cutbacks, s.min_dt);
   if (s.activations + s.releases > 0)
-    fmt::print("contact: {} activations, {} releases, largest gap at activation {:.3e} m\n", s.activations, s.releases,
-               s.max_activation_gap);
+    fmt::print(
+        "contact: {} activations, {} releases ({} held after a release), largest gap at activation {:.3e} m; "
+        "active gaps {:.3e} to {:.3e} m; deepest penetration {:.3e} m\n",
+        s.activations, s.releases, s.held, s.max_activation_gap, s.min_active_gap, s.max_active_gap,
+        s.max_penetration);
   fmt::print("output: {}/history.csv, {}/solution.pvd\n", s.output_directory.string(), s.output_directory.string());
 }
 

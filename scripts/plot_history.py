@@ -36,7 +36,10 @@ AXES = "xyz"
 def read(path):
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
-    header, data = rows[0], np.array(rows[1:], dtype=float)
+    # an empty field is a value that is not there (e.g. min_active_gap
+    # with nothing active)
+    header = rows[0]
+    data = np.array([[float(x) if x else np.nan for x in row] for row in rows[1:]], dtype=float)
     if data.ndim != 2 or len(data) == 0:
         sys.exit(f"plot_history: {path}: no data rows")
     return {name: data[:, i] for i, name in enumerate(header)}
@@ -211,28 +214,27 @@ def plot_contact(h, out):
 
 
 def plot_drift(h, out, expected, dim):
-    """Relative drift |q(t) - q(0)| / scale (for L and J the norm of the
-    vector change). Scales: |E(0)| (or the largest
-    kinetic energy if E(0) = 0) for E; the largest |L|, |J| over the run for
-    the momenta and their components (so that a component starting at zero
-    is measured against the momentum the run actually has)."""
+    """Relative drift |q(t) - q(0)| / q_ref, the figures conserve itself
+    reports (history columns drift_E, drift_L, drift_J; for L and J the
+    norm of the vector change). The references never vanish while anything
+    moves: E_ref is the largest K + W seen so far, L_ref the largest sum of
+    the nodes' momentum magnitudes, J_ref = L_ref times the model's size."""
     t = h["time"][1:]
     L, J = vec(h, "L"), vec(h, "J")
-    e_scale = abs(h["total"][0]) or np.abs(h["kinetic"]).max()
-    l_scale = np.linalg.norm(L, axis=1).max()
-    j_scale = np.linalg.norm(J, axis=1).max()
-    tiny = 1e-300
-    series = {
-        "E": np.abs(h["total"] - h["total"][0]) / max(e_scale, tiny),
-        "|L|": np.linalg.norm(L - L[0], axis=1) / max(l_scale, tiny),
-        "|J|": np.linalg.norm(J - J[0], axis=1) / max(j_scale, tiny),
-    }
+    series = {"E": h["drift_E"], "|L|": h["drift_L"], "|J|": h["drift_J"]}
+
+    def component(arr, drift, k):
+        """|q_k(t) - q_k(0)| / q_ref, from the norm's drift and change."""
+        change = np.linalg.norm(arr - arr[0], axis=1)
+        part = np.abs(arr[:, k] - arr[0, k])
+        return np.divide(drift * part, change, out=np.zeros_like(part), where=change > 0)
+
     fig, ax = plt.subplots(figsize=(8, 4.5))
     colours = {"E": "C0", "|L|": "C1", "|J|": "C2"}
     if expected is None:
         for label, d in series.items():
             ax.semilogy(t, np.maximum(d[1:], 1e-17), color=colours[label], label=label)
-        title = "Conservation: relative drift |q(t) − q(0)| / scale(q)"
+        title = "Conservation: relative drift |q(t) − q(0)| / q_ref"
         note = "expected conservation unknown (pass --scenario)"
     else:
         flags = {
@@ -245,16 +247,15 @@ def plot_drift(h, out, expected, dim):
             ax.semilogy(t, np.maximum(d[1:], 1e-17), color=colours[label], ls="-" if ok else ":", lw=1.5 if ok else 1,
                         label=f"{label} ({'conserved' if ok else 'not conserved'})")
         # conserved components whose norm is not conserved
-        for name, arr, scale, flag_key, cols in [("L", L, l_scale, "|L|", ("C1", "C3", "C5")),
-                                                 ("J", J, j_scale, "|J|", ("C2", "C4", "C6"))]:
+        for name, arr, flag_key, cols in [("L", L, "|L|", ("C1", "C3", "C5")), ("J", J, "|J|", ("C2", "C4", "C6"))]:
             if flags[flag_key]:
                 continue
             for k, c in enumerate(AXES):
                 if expected[name][k]:
-                    d = np.abs(arr[:, k] - arr[0, k]) / max(scale, tiny)
+                    d = component(arr, series[flag_key], k)
                     ax.semilogy(t, np.maximum(d[1:], 1e-17), color=cols[k], ls="-", lw=1,
                                 label=f"{name}_{c} (conserved)")
-        title = "Conservation: relative drift |q(t) − q(0)| / scale(q)"
+        title = "Conservation: relative drift |q(t) − q(0)| / q_ref"
         note = "solid: expected conserved; dotted: not expected"
         if expected["reasons"]:
             note += "\n(" + "; ".join(dict.fromkeys(expected["reasons"])) + ")"

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 
 #include <unsupported/Eigen/AutoDiff>
@@ -318,26 +319,36 @@ void Elimination<D>::expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const
 // acts on: then a·Δx, the work the zero-work correction has to absorb, is
 // of third order in the step except on the step a slave crosses an edge
 // (contact/zero_work.hpp). The facet may be switched at most kMaxSwitches
-// times per solve by walking to the facet the point projects on, so that
-// a slave near an edge cannot make Newton's iterates hop between two
-// facets; after that its projection is extrapolated, which is safe at a
-// convex edge (the extended plane lies outside the neighbour). At a
-// concave edge the neighbour is always taken when the slave projects
-// inside it with a smaller gap, so that it ends behind neither facet.
+// times per solve, by walking to the facet the point projects on or, at a
+// concave edge, to a neighbour the slave projects inside with a gap
+// smaller by more than round-off (so that it ends behind neither facet).
+// The cap keeps Newton's iterates from hopping between facets: a slave on
+// a vertex of a surface whose concavity changes from iterate to iterate
+// (conforming meshes) has no fixed point otherwise. After the cap the
+// projection is extrapolated, which is safe at a convex edge (the extended
+// plane lies outside the neighbour); at a concave one the slave may end
+// behind the neighbour by the surface's kink (docs/theory.md, "Limits";
+// history.csv's max_penetration shows it).
 template <int D>
 void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const {
   const ContactSurface& master = (*pairs_)[k.pair].master;
   const double tol = (*pairs_)[k.pair].search.inside_tolerance;
+  // A neighbour must be lower by more than round-off: on a flat surface
+  // (or at a vertex the slave sits on) all facets give the same gap, and a
+  // choice made by round-off would hop between iterations.
+  const double lower = (*pairs_)[k.pair].search.penetration_tolerance;
   Vec<D> xs = x.col(k.slave);
   int facet = k.facet;
   for (int pass = 0; pass < 4; ++pass) {
     Match<D> best{facet, project<D>(xs, facet_nodes<D>(master, facet, x))};
-    if (switches < kMaxSwitches) best = follow<D>(xs, best, master, x, tol);
-    for (int side = 0; side < D; ++side) {
-      const int next = master.facet_neighbours(side, best.facet);
-      if (next < 0) continue;
-      const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
-      if (p.inside(tol) && p.gap < best.projection.gap) best = Match<D>{next, p};
+    if (switches < kMaxSwitches) {
+      best = follow<D>(xs, best, master, x, tol);
+      for (int side = 0; side < D; ++side) {
+        const int next = master.facet_neighbours(side, best.facet);
+        if (next < 0) continue;
+        const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
+        if (p.inside(tol) && p.gap < best.projection.gap - lower) best = Match<D>{next, p};
+      }
     }
     xs -= (best.projection.gap - k.gap) * best.projection.normal;
     if (best.facet == facet) break;

@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include <charconv>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -30,12 +32,14 @@ bool read_line(std::istream& in, std::string& line) {
   return true;
 }
 
-/// The whole field as a double (also "nan", "inf", "-inf"), or nothing.
+/// The whole field as a double (also "nan", "inf", "-inf"; an empty field
+/// is NaN, a value not there), or nothing.
 std::optional<double> to_double(const std::string& field) {
+  if (field.empty()) return std::numeric_limits<double>::quiet_NaN();
   double value = 0.0;
   const auto* end = field.data() + field.size();
   const auto [ptr, error] = std::from_chars(field.data(), end, value);
-  if (error != std::errc() || ptr != end || field.empty()) return std::nullopt;
+  if (error != std::errc() || ptr != end) return std::nullopt;
   return value;
 }
 
@@ -85,7 +89,7 @@ std::string kept_prefix(const std::filesystem::path& file, const std::string& he
   bool found = false;
   while (read_line(in, line)) {
     const auto step = to_double(line.substr(0, line.find(',')));
-    if (!step || *step > static_cast<double>(last_step)) break;
+    if (!step || std::isnan(*step) || *step > static_cast<double>(last_step)) break;
     found = found || *step == static_cast<double>(last_step);
     kept += line + '\n';
   }
@@ -137,7 +141,12 @@ void HistoryWriter::write_row(const std::vector<double>& values) {
   if (values.size() != columns_) {
     throw Error(fmt::format("{}: row of {} values for {} columns", file_.string(), values.size(), columns_));
   }
-  out_ << fmt::format("{:.17g}\n", fmt::join(values, ",")) << std::flush;
+  std::string line;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i > 0) line += ',';
+    if (!std::isnan(values[i])) line += fmt::format("{:.17g}", values[i]);  // NaN: an empty field
+  }
+  out_ << line << '\n' << std::flush;
   if (!out_) throw Error(fmt::format("{}: write failed", file_.string()));
 }
 

@@ -16,7 +16,8 @@ class HistoryWriter {
   /// up to that step instead (restarts).
   HistoryWriter(const std::filesystem::path& file, std::vector<std::string> columns);
   /// Writes one row; values.size() must equal the number of columns.
-  /// Doubles are written with 17 significant digits (round-trip exact).
+  /// Doubles are written with 17 significant digits (round-trip exact);
+  /// NaN as an empty field (a value that is not there).
   void write_row(const std::vector<double>& values);
 
  private:

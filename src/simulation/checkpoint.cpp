@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -123,7 +124,11 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(static_cast<std::int32_t>(t.max_newton_iterations));
   w.value(static_cast<std::int64_t>(t.activations));
   w.value(static_cast<std::int64_t>(t.releases));
+  w.value(static_cast<std::int64_t>(t.held));
   w.value(t.max_activation_gap);
+  for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
+                   t.min_det_F})
+    w.value(v);
 }
 
 RunTotals read_totals(Reader& r) {
@@ -135,7 +140,11 @@ RunTotals read_totals(Reader& r) {
   t.max_newton_iterations = r.value<std::int32_t>();
   t.activations = r.value<std::int64_t>();
   t.releases = r.value<std::int64_t>();
+  t.held = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
+  for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
+                    &t.max_penetration, &t.min_det_F})
+    *v = r.value<double>();
   return t;
 }
 
@@ -173,6 +182,18 @@ std::string slurp(const std::filesystem::path& file) {
 }
 
 }  // namespace
+
+void RunTotals::add(const contact::StepContactStats& c) {
+  activations += c.activations;
+  releases += c.releases;
+  held += c.held;
+  max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
+  max_penetration = std::max(max_penetration, c.max_penetration);
+  if (!std::isnan(c.min_active_gap)) {
+    min_active_gap = std::isnan(min_active_gap) ? c.min_active_gap : std::min(min_active_gap, c.min_active_gap);
+    max_active_gap = std::isnan(max_active_gap) ? c.max_active_gap : std::max(max_active_gap, c.max_active_gap);
+  }
+}
 
 std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, std::int64_t step) {
   return output_directory / "checkpoints" / fmt::format("ckpt_{:06d}.bin", step);

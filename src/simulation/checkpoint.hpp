@@ -4,9 +4,11 @@
 /// running drift maxima), tied to the scenario by its fingerprint
 /// (simulation/fingerprint.hpp). Binary (raw doubles), written atomically.
 #include <cstdint>
+#include <limits>
 #include <filesystem>
 #include <vector>
 
+#include "contact/active_set.hpp"
 #include "contact/constraint.hpp"
 #include "io/scenario.hpp"
 #include "model/model.hpp"
@@ -17,14 +19,26 @@ namespace conserve::simulation {
 
 /// The run's accumulators that summary.json reports.
 struct RunTotals {
-  double energy_drift = 0.0;
-  Vec3 linear_drift = Vec3::Zero();
-  Vec3 angular_drift = Vec3::Zero();
-  double newton_iterations = 0.0;  ///< sum over the steps
+  double energy_drift = 0.0;        ///< largest |E − E0| / E_ref (simulation/drift.hpp)
+  Vec3 linear_drift = Vec3::Zero();   ///< per component, largest |L_i − L_i0| / L_ref
+  Vec3 angular_drift = Vec3::Zero();  ///< per component, largest |J_i − J_i0| / J_ref
+  double energy_reference = 0.0;    ///< E_ref: largest K + W so far [J]
+  double momentum_reference = 0.0;  ///< L_ref: largest Σ|(MV)_A| so far [kg m/s]
+  double newton_iterations = 0.0;   ///< sum over the steps
   int max_newton_iterations = 0;
   std::int64_t activations = 0;
   std::int64_t releases = 0;
+  std::int64_t held = 0;  ///< released slaves re-activated and held within their step
   double max_activation_gap = 0.0;
+  /// Extremes over the steps: gaps of the active slaves (NaN while none
+  /// was ever active) and the deepest penetration [m]; smallest det F.
+  double min_active_gap = std::numeric_limits<double>::quiet_NaN();
+  double max_active_gap = std::numeric_limits<double>::quiet_NaN();
+  double max_penetration = 0.0;
+  double min_det_F = std::numeric_limits<double>::infinity();
+
+  /// Adds one step's contact figures.
+  void add(const contact::StepContactStats& c);
 };
 
 /// The adaptive step size: halved on a failed step, doubled back (up to

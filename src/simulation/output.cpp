@@ -29,7 +29,15 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
                                 "releases",
                                 "active_set_passes",
                                 "max_activation_gap",
-                                "contact_force"};
+                                "contact_force",
+                                "min_active_gap",
+                                "max_active_gap",
+                                "max_penetration",
+                                "held",
+                                "min_det_F",
+                                "drift_E",
+                                "drift_L",
+                                "drift_J"};
   for (const auto& name : body_names)
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
   return c;
@@ -82,7 +90,8 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
 }
 
 template <int D>
-void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d, const StepRecord& step, bool last) {
+void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d, const StepRecord& step,
+                            const Drifts& drift, bool last) {
   const auto& forces = contacts_ ? contacts_->normal_forces() : std::vector<double>{};
   double contact_force = 0.0;
   for (double f : forces) contact_force += f;
@@ -106,7 +115,15 @@ void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& 
                              static_cast<double>(c.releases),
                              static_cast<double>(c.passes),
                              c.max_activation_gap,
-                             contact_force};
+                             contact_force,
+                             c.min_active_gap,
+                             c.max_active_gap,
+                             c.max_penetration,
+                             static_cast<double>(c.held),
+                             d.min_det_F,
+                             drift.energy,
+                             drift.linear,
+                             drift.angular};
   for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
   history_.write_row(row);
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);

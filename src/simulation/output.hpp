@@ -10,13 +10,15 @@
 #include "contact/active_set.hpp"
 #include "io/history_writer.hpp"
 #include "io/vtu_writer.hpp"
+#include "simulation/drift.hpp"
 #include "simulation/stepper.hpp"
 #include "time/diagnostics.hpp"
 
 namespace conserve::simulation {
 
 /// Column names of history.csv, in order: the totals, then each body's
-/// linear momentum "L_x:NAME", "L_y:NAME", "L_z:NAME".
+/// linear momentum "L_x:NAME", "L_y:NAME", "L_z:NAME". A NaN value (e.g.
+/// min_active_gap with no active slave) is written as an empty field.
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {});
 
 template <int D>
@@ -32,8 +34,10 @@ class OutputWriter {
                std::optional<double> resume_time = std::nullopt);
 
   /// Appends the history row of `state` (step: what the step that produced
-  /// it did; empty for the initial state) and writes a VTU if due.
-  void write(const model::State& state, const time::Diagnostics& d, const StepRecord& step, bool last);
+  /// it did, empty for the initial state; drift: its relative drifts) and
+  /// writes a VTU if due.
+  void write(const model::State& state, const time::Diagnostics& d, const StepRecord& step, const Drifts& drift,
+             bool last);
   /// Writes a VTU of `state` (if VTU output is on) without a history row,
   /// e.g. the last converged state of a run that stops.
   void write_snapshot(const model::State& state) {

@@ -34,7 +34,7 @@ void ProgressLine::update(const ProgressPoint& p) {
   last_ = now;
   const double t = elapsed();
   const double eta = p.last ? 0.0 : (p.fraction > 0.0 ? t * (1.0 - p.fraction) / p.fraction : 0.0);
-  fmt::print(out_, "{}step {}/{}  t = {:.4g} s  {:.0f}%  |ΔE|/E = {:.2e}  Newton {}  elapsed {:.1f} s  ETA {:.1f} s{}",
+  fmt::print(out_, "{}step {}/{}  t = {:.4g} s  {:.0f}%  |ΔE|/E_ref = {:.2e}  Newton {}  elapsed {:.1f} s  ETA {:.1f} s{}",
              tty_ ? "\r" : "", p.step, p.expected_steps, p.time, 100.0 * p.fraction, p.energy_drift,
              p.newton_iterations, t, eta, tty_ ? "  " : "\n");
   std::fflush(out_);

@@ -14,7 +14,7 @@ struct ProgressPoint {
   std::int64_t expected_steps = 0;  ///< step number the run is expected to end at (grows after cutbacks)
   double time = 0.0;                ///< simulated time [s]
   double fraction = 0.0;            ///< share of this invocation's work done, in [0, 1]
-  double energy_drift = 0.0;        ///< running max of |ΔE|/E
+  double energy_drift = 0.0;        ///< |E − E0|/E_ref of this step (simulation/drift.hpp)
   int newton_iterations = 0;        ///< of the last step
   bool last = false;                ///< the last step of the run: always printed
 };

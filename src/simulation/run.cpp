@@ -14,6 +14,7 @@
 #include "simulation/output.hpp"
 #include "simulation/progress.hpp"
 #include "simulation/contact_setup.hpp"
+#include "simulation/drift.hpp"
 #include "simulation/setup.hpp"
 #include "simulation/stepper.hpp"
 #include "time/diagnostics.hpp"
@@ -28,28 +29,6 @@ std::int64_t step_count(const io::TimeSpec& t) {
   const double n = t.end / t.step;
   return static_cast<std::int64_t>(std::abs(n - std::round(n)) < 1e-9 * n ? std::round(n) : std::ceil(n));
 }
-
-/// Running maxima of the relative drifts against the initial values.
-class DriftTracker {
- public:
-  explicit DriftTracker(const time::Diagnostics& d0) : d0_(d0) {
-    const double e = std::abs(d0.total);
-    energy_scale_ = e > 0.0 ? e : std::max(d0.kinetic + d0.strain + std::abs(d0.potential), 1e-300);
-    linear_scale_ = std::max(d0.linear.norm(), 1e-300);
-    angular_scale_ = std::max(d0.angular.norm(), 1e-300);
-  }
-  double add(const time::Diagnostics& d, RunTotals& s) const {
-    const double e = std::abs(d.total - d0_.total) / energy_scale_;
-    s.energy_drift = std::max(s.energy_drift, e);
-    s.linear_drift = s.linear_drift.cwiseMax((d.linear - d0_.linear).cwiseAbs() / linear_scale_);
-    s.angular_drift = s.angular_drift.cwiseMax((d.angular - d0_.angular).cwiseAbs() / angular_scale_);
-    return e;
-  }
-
- private:
-  time::Diagnostics d0_;
-  double energy_scale_, linear_scale_, angular_scale_;
-};
 
 /// True once `state` has reached the end time (the last step may overshoot
 /// it, as with a fixed Δt that does not divide the end time).
@@ -70,7 +49,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const Fingerprint fingerprint = scenario_fingerprint<D>(sc, problem.model);
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
-  const DriftTracker drift(d0);
+  const DriftTracker drift(problem.model.size(), d0);
   RunTotals totals;
   if (options.restart) {
     Checkpoint<D> c = read_checkpoint<D>(*options.restart, fingerprint, problem.model);
@@ -88,7 +67,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
   const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
-    output.write(state, d0, StepRecord{}, finished(sc.time, state) || max_steps == 0);
+    output.write(state, d0, StepRecord{}, drift.add(d0, totals), finished(sc.time, state) || max_steps == 0);
+    totals.min_det_F = std::min(totals.min_det_F, d0.min_det_F);
     steps_csv.write_row({0.0, state.time, 0.0, 0.0});
   }
   auto save = [&](const model::State& s, std::vector<contact::Constraint<D>> constraints) {
@@ -119,18 +99,17 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     }
     summary.min_dt = std::min(summary.min_dt, dt);
     const time::Diagnostics d = time::diagnostics<D>(assembler, state);
-    const double e = drift.add(d, totals);
+    const Drifts drifts = drift.add(d, totals);
     const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
     {
       solver::ScopedTimer timer(summary.output_seconds);
-      output.write(state, d, record, last);
+      output.write(state, d, record, drifts, last);
       steps_csv.write_row({static_cast<double>(state.step), state.time, dt, static_cast<double>(failures)});
     }
     totals.newton_iterations += record.newton.iterations;
     totals.max_newton_iterations = std::max(totals.max_newton_iterations, record.newton.iterations);
-    totals.activations += record.contact.activations;
-    totals.releases += record.contact.releases;
-    totals.max_activation_gap = std::max(totals.max_activation_gap, record.contact.max_activation_gap);
+    totals.add(record.contact);
+    totals.min_det_F = std::min(totals.min_det_F, d.min_det_F);
     if (sc.output.checkpoint_every > 0 && state.step % sc.output.checkpoint_every == 0) {
       solver::ScopedTimer timer(summary.output_seconds);
       integrator.drop_factorization();  // a restart starts without one
@@ -146,7 +125,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
          .expected_steps = state.step + steps_left(state.time, sc.time.end, control.dt, taken + 1, max_steps, last),
          .time = state.time,
          .fraction = last ? 1.0 : std::clamp(std::max(by_time, by_steps), 0.0, 1.0),
-         .energy_drift = e,
+         .energy_drift = drifts.energy,
          .newton_iterations = record.newton.iterations,
          .last = last});
   }
@@ -161,6 +140,14 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.activations = totals.activations;
   summary.releases = totals.releases;
   summary.max_activation_gap = totals.max_activation_gap;
+  summary.held = totals.held;
+  summary.min_active_gap = totals.min_active_gap;
+  summary.max_active_gap = totals.max_active_gap;
+  summary.max_penetration = totals.max_penetration;
+  summary.min_det_F = totals.min_det_F;
+  summary.energy_reference = totals.energy_reference;
+  summary.momentum_reference = totals.momentum_reference;
+  summary.angular_reference = totals.momentum_reference * problem.model.size();
   summary.cutbacks = control.cutbacks - first_cutbacks;
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();

@@ -194,12 +194,62 @@ void check_overlaps(const io::Scenario& scenario, const model::Model<D>& model, 
   }
 }
 
+/// The largest magnitude a derived scale may have: the solver sums squares
+/// of forces (norms), so a scale's square must stay finite in double
+/// precision (1.8e308).
+constexpr double kLargestScale = 1e150;
+
+/// One derived scale of a body and the keys it comes from.
+struct Scale {
+  const char* what;  ///< e.g. "elastic force scale (λ + 2μ)·V/L"
+  const char* unit;
+  double value;
+  const char* keys;  ///< the scenario keys that set it
+};
+
+/// Throws InputError naming the keys if a body's derived force or energy
+/// scales are not finite or too large for the solver's norms (young =
+/// 1e308 gives an infinite elastic force scale, density = 1e308 an
+/// infinite inertia).
+template <int D>
+void check_scales(const io::Scenario& scenario, const model::Model<D>& model) {
+  const double dt = scenario.time.step, g = scenario.gravity.norm();
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    const io::BodySpec& spec = scenario.bodies[b];
+    if (spec.rigid) continue;  // prescribed: its material never acts
+    const model::Body& body = model.bodies[b];
+    double volume = 0.0;
+    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) volume += model.geometry[c].volume;
+    const auto X = model.X.middleCols(body.first_node, body.num_nodes);
+    const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
+    const double modulus = body.lame.lambda + 2.0 * body.lame.mu, mass = body.density * volume;
+    const double speed = spec.velocity.norm() + spec.angular_velocity.norm() * size;
+    const Scale scales[] = {
+        {"P-wave modulus λ + 2μ", "Pa", modulus, "material.young and material.poisson"},
+        {"elastic force scale (λ + 2μ)·V/L", "N", modulus * volume / size, "material.young and material.poisson"},
+        {"elastic energy scale (λ + 2μ)·V", "J", modulus * volume, "material.young and material.poisson"},
+        {"mass", "kg", mass, "material.density"},
+        {"inertia force scale m·L/Δt²", "N", mass * size / (dt * dt), "material.density and time.step"},
+        {"momentum force scale 2 m v/Δt", "N", 2.0 * mass * speed / dt, "material.density, velocity and time.step"},
+        {"kinetic energy scale m v²/2", "J", 0.5 * mass * speed * speed, "material.density and velocity"},
+        {"weight m g", "N", mass * g, "material.density and loads.gravity"},
+    };
+    for (const Scale& sc : scales)
+      if (!(std::abs(sc.value) <= kLargestScale))
+        throw InputError(fmt::format(
+            "{}: body[{}] '{}': {}: its {} is {:.3g} {}, beyond what the solver can hold in double precision "
+            "(at most {:g} {}, so that norms of forces stay finite)",
+            scenario.file.string(), b, spec.name, sc.keys, sc.what, sc.value, sc.unit, kLargestScale, sc.unit));
+  }
+}
+
 }  // namespace
 
 template <int D>
 Problem<D> setup(const io::Scenario& scenario) {
   Problem<D> p;
   for (std::size_t i = 0; i < scenario.bodies.size(); ++i) add_body<D>(scenario, i, p.model);
+  check_scales<D>(scenario, p.model);
   p.model.gravity = scenario.gravity.head<D>();
   add_prescribed<D>(scenario, p.model);
   p.initial = model::rest_state<D>(p.model);

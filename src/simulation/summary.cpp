@@ -46,7 +46,19 @@ Json figures(const RunSummary& s, int unknowns) {
               {"factorizations", t.factorizations},
               {"symbolic_analyses", t.analyses},
               {"cutbacks", s.cutbacks},
-              {"min_dt", s.min_dt}};
+              {"min_dt", s.min_dt},
+              {"drift_reference",
+               {{"energy", s.energy_reference},
+                {"momentum", s.momentum_reference},
+                {"angular_momentum", s.angular_reference},
+                {"definition",
+                 "drift = |X - X0| / X_ref; E_ref = largest K + W seen [J], L_ref = largest sum over nodes of "
+                 "|(M V)_A| seen [kg m/s], J_ref = L_ref times the model's bounding-box diagonal [kg m^2/s]"}}},
+              {"held", s.held},
+              {"min_active_gap", s.min_active_gap},
+              {"max_active_gap", s.max_active_gap},
+              {"max_penetration", s.max_penetration},
+              {"min_det_F", s.min_det_F}};
 }
 
 }  // namespace

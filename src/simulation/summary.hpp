@@ -17,14 +17,22 @@ namespace conserve::simulation {
 struct RunSummary {
   std::int64_t steps = 0;  ///< steps taken by this invocation
   double wall_seconds = 0.0;
-  double energy_drift = 0.0;          ///< max |E − E0| / |E0| (or / max(K+W) if E0 = 0)
-  Vec3 linear_drift = Vec3::Zero();   ///< per component, max |L_i − L_i0| / max(|L|, p_ref)
-  Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / max(|J|, j_ref)
+  double energy_drift = 0.0;          ///< max |E − E0| / E_ref (simulation/drift.hpp)
+  Vec3 linear_drift = Vec3::Zero();   ///< per component, max |L_i − L_i0| / L_ref
+  Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / J_ref
+  double energy_reference = 0.0;      ///< E_ref: the largest K + W seen [J]
+  double momentum_reference = 0.0;    ///< L_ref: the largest Σ_A |(MV)_A| seen [kg m/s]
+  double angular_reference = 0.0;     ///< J_ref = L_ref × the model's size [kg m²/s]
   double mean_newton_iterations = 0.0;
   int max_newton_iterations = 0;
   std::int64_t activations = 0;     ///< contact activations over the run
   std::int64_t releases = 0;        ///< contact releases over the run
   double max_activation_gap = 0.0;  ///< largest gap of a slave at activation [m]
+  std::int64_t held = 0;            ///< released slaves re-activated and held within their step
+  double min_active_gap = 0.0;      ///< smallest gap of an active slave at a step's end [m] (NaN: none)
+  double max_active_gap = 0.0;      ///< largest gap of an active slave at a step's end [m] (NaN: none)
+  double max_penetration = 0.0;     ///< deepest slave behind its master at a step's end [m]
+  double min_det_F = 0.0;           ///< smallest det F of a cell at a step's end
   std::filesystem::path output_directory;
   solver::Timings timings;      ///< where the wall time went
   double output_seconds = 0.0;  ///< writing history and VTU files

@@ -17,7 +17,11 @@ Diagnostics diagnostics(const assembly::Assembler<D>& assembler, const model::St
     pn.head<D>() = p.segment<D>(n * D);
     d.linear += pn;
     d.angular += x.cross(pn);
+    d.momentum_magnitude += pn.norm();
   }
+  const assembly::Orientation o = assembler.min_det_F(state.u);
+  d.min_det_F = o.cell < 0 ? 1.0 : o.det_F;
+  d.min_det_F_cell = o.cell;
   for (const auto& body : model.bodies) {
     Vec3 L = Vec3::Zero();
     for (int n = body.first_node; n < body.first_node + body.num_nodes; ++n) L.head<D>() += p.segment<D>(n * D);

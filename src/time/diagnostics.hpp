@@ -15,6 +15,9 @@ struct Diagnostics {
   Vec3 linear = Vec3::Zero();   ///< L = Σ_A (MV)_A [kg m/s] (z = 0 in 2D)
   Vec3 angular = Vec3::Zero();  ///< J = Σ_A x_A × (MV)_A about the origin [kg m²/s] (2D: z only)
   std::vector<Vec3> body_linear;  ///< L of each body [kg m/s]
+  double momentum_magnitude = 0.0;  ///< Σ_A |(MV)_A| [kg m/s]: the scale L and J are sums at
+  double min_det_F = 0.0;           ///< smallest det F over the cells (1 if none)
+  int min_det_F_cell = -1;          ///< its global cell, −1 if there are no cells
 };
 
 template <int D>
