@@ -11,6 +11,7 @@
 
 #include "io/history_writer.hpp"
 #include "support/cli.hpp"
+#include "support/stretched_box.hpp"
 
 namespace conserve::test {
 namespace {
@@ -23,30 +24,7 @@ using ::testing::HasSubstr;
 /// stiffer, its Saint Venant–Kirchhoff cells are compressed past their
 /// limit point as it rebounds and turn inside out: a step that ends so
 /// fails, issue 11.)
-const std::string kStiffStep = R"(dimension = 3
-[time]
-step = 0.05
-end = 0.2
-[newton]
-max_iterations = 5
-[output]
-vtu_every = 2
-[[body]]
-name = "box"
-velocity = [1.0, 0.5, 0.0]
-angular_velocity = [0.5, 1.0, 3.0]
-initial_deformation = [[1.2, 0.05, 0.0], [0.0, 0.85, 0.0], [0.0, 0.0, 1.0]]
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "box"
-lx = 1.0
-ly = 0.4
-lz = 0.3
-size = 0.2
-)";
+const std::string kStiffStep = stretched_box("1.2", "1.0e5", 2);
 
 TEST(Cutback, RecoversByHalvingTheStep) {
   const auto dir = scratch("cutback_recover");

@@ -10,6 +10,7 @@
 
 #include "io/history_writer.hpp"
 #include "support/cli.hpp"
+#include "support/stretched_box.hpp"
 #include "support/contact_scenarios.hpp"
 
 namespace conserve::test {
@@ -232,30 +233,7 @@ TEST(Trust, AngularMomentumThatStaysZeroHasNoDrift) {
 /// A soft, strongly pre-stretched spinning box: as it rebounds, Saint
 /// Venant–Kirchhoff cells are compressed past their limit point and turn
 /// inside out at any step size (det F down to −1.4 was seen).
-const std::string kInverts = R"(dimension = 3
-[time]
-step = 0.05
-end = 0.2
-[newton]
-max_iterations = 5
-[output]
-vtu_every = 0
-[[body]]
-name = "box"
-velocity = [1.0, 0.5, 0.0]
-angular_velocity = [0.5, 1.0, 3.0]
-initial_deformation = [[1.3, 0.05, 0.0], [0.0, 0.85, 0.0], [0.0, 0.0, 1.0]]
-[body.material]
-young = 5.0e4
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "box"
-lx = 1.0
-ly = 0.4
-lz = 0.3
-size = 0.2
-)";
+const std::string kInverts = stretched_box("1.3", "5.0e4", 0);
 
 TEST(Trust, AnInvertedCellStopsTheRunNamingBodyCellAndStep) {
   const auto dir = scratch("trust_inverted");
