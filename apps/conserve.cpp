@@ -29,10 +29,11 @@ void print_summary(const RunSummary& s) {
   fmt::print("smallest det F {:.4g}\n", s.min_det_F);
   const auto& t = s.timings;
   fmt::print(
-      "time: assembly {:.2f} s, contact elimination {:.2f} s, factorization {:.2f} s ({} numeric, {} symbolic), "
-      "solve {:.2f} s, contact search {:.2f} s, output {:.2f} s\n",
-      t.assembly, t.elimination, t.factorization, t.factorizations, t.analyses, t.solve, t.contact_search,
-      s.output_seconds);
+      "time: assembly {:.2f} s, contact elimination {:.2f} s, linear set-up {:.2f} s ({} set-ups), linear solve "
+      "{:.2f} s ({} solves, {:.1f} {} iterations each), contact search {:.2f} s, output {:.2f} s\n",
+      t.assembly, t.elimination, t.linear_setup, t.linear_setups, t.linear_solve, t.linear_solves,
+      t.linear_solves ? static_cast<double>(t.linear_iterations) / static_cast<double>(t.linear_solves) : 0.0,
+      s.linear_solver, t.contact_search, s.output_seconds);
   if (s.cutbacks > 0)
     fmt::print("cutbacks: {} failed steps retried with a halved time step (smallest {:.3e} s), see steps.csv\n",
                s.cutbacks, s.min_dt);

@@ -56,8 +56,23 @@ NewtonSpec parse_newton(const Section& s) {
   NewtonSpec newton;
   newton.max_iterations = s.integer("max_iterations");
   newton.residual_tolerance = s.number("residual_tolerance");
-  newton.reuse_factorization = s.boolean("reuse_factorization");
   return newton;
+}
+
+SolverSpec parse_solver(const Section& s) {
+  SolverSpec solver;
+  solver.method = s.string("method");
+  solver.preconditioner = s.string("preconditioner");
+  solver.gamg_from = s.integer("gamg_from");
+  solver.max_linear_iterations = s.integer("max_linear_iterations");
+  solver.forcing_max = s.number("forcing_max");
+  solver.modified_newton = s.boolean("modified_newton");
+  solver.petsc_options = s.string("petsc_options");
+  if (solver.method == "direct" && solver.preconditioner != "auto")
+    s.fail("preconditioner", fmt::format("'{}' is for method = \"krylov\"; this scenario has method = \"direct\"",
+                                         solver.preconditioner),
+           "no preconditioner with the direct solver");
+  return solver;
 }
 
 OutputSpec parse_output(const Section& s) {
@@ -86,6 +101,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   scenario.dimension = ctx.dimension = top.integer("dimension");
   scenario.time = parse_time(top.table("time"));
   scenario.newton = parse_newton(top.table("newton"));
+  scenario.solver = parse_solver(top.table("solver"));
   scenario.gravity = top.table("loads").vector("gravity");
   scenario.output = parse_output(top.table("output"));
   scenario.bodies = detail::parse_bodies(top, file);

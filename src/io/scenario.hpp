@@ -99,8 +99,17 @@ struct NewtonSpec {
   /// converged when |r| ≤ residual_tolerance · (reference force of the
   /// step), or at |r|'s round-off floor (solver/newton.hpp)
   double residual_tolerance = 1e-12;
-  /// modified Newton: reuse factorizations while convergence is fast
-  bool reuse_factorization = false;
+};
+
+/// [solver]: the linear solver of the Newton systems (solver/linear_solver.hpp).
+struct SolverSpec {
+  std::string method = "krylov";           ///< krylov | direct
+  std::string preconditioner = "auto";     ///< auto | ilu | gamg (krylov)
+  int gamg_from = 200000;                  ///< auto: GAMG from this many unknowns on
+  int max_linear_iterations = 400;
+  double forcing_max = 0.1;                ///< Eisenstat–Walker's largest relative linear tolerance
+  bool modified_newton = false;            ///< keep the tangent while convergence is fast
+  std::string petsc_options;
 };
 
 struct OutputSpec {
@@ -119,6 +128,7 @@ struct Scenario {
   int dimension = 3;  ///< 2 (plane strain) or 3
   TimeSpec time;
   NewtonSpec newton;
+  SolverSpec solver;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s²]
   std::vector<BodySpec> bodies;
   std::vector<BoundarySpec> boundaries;

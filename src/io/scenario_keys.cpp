@@ -24,6 +24,7 @@ SectionSpec top_level() {
                .doc = "2 (plane strain, triangles) or 3 (tetrahedra)"},
               {.name = "time", .type = KeyType::table, .required = true, .doc = "time stepping, see [time]"},
               {.name = "newton", .type = KeyType::table, .doc = "Newton solver, see [newton]"},
+              {.name = "solver", .type = KeyType::table, .doc = "linear solver, see [solver]"},
               {.name = "loads", .type = KeyType::table, .doc = "body forces, see [loads]"},
               {.name = "output", .type = KeyType::table, .doc = "output files, see [output]"},
               {.name = "body",
@@ -94,14 +95,60 @@ SectionSpec newton_section() {
                       "load and elastic force norms at its start), or when |r| is at its round-off floor (ε times "
                       "the forces it sums) and that floor is at most 1e-6 of the reference force (else the step fails: the model is too stiff for double precision at this Δt); a small "
                       "increment alone never ends the iteration"},
-              {.name = "reuse_factorization",
-               .type = KeyType::boolean,
-               .default_value = "false",
-               .doc = "modified Newton: keep a factorization across iterations and steps while each iteration "
-                      "reduces the residual 4×; linear convergence, far fewer factorizations, same conservation"},
           },
           .retired = {{"increment_tolerance",
-                       "removed: Newton converges on the residual only (see residual_tolerance); delete the key"}}};
+                       "removed: Newton converges on the residual only (see residual_tolerance); delete the key"},
+                      {"reuse_factorization", "moved: it is [solver] modified_newton now"}}};
+}
+
+SectionSpec solver_section() {
+  return {.name = "solver",
+          .doc = "Linear solver of the Newton systems. The default, GMRES with ILU(0) or GAMG, solves each system "
+                 "only as accurately as Newton needs (Eisenstat–Walker); the step's convergence is judged on the "
+                 "nonlinear residual alone, so conservation does not depend on the choice.",
+          .keys = {
+              {.name = "method",
+               .type = KeyType::choice,
+               .default_value = "krylov",
+               .choices = {"krylov", "direct"},
+               .doc = "`krylov` (PETSc GMRES, right-preconditioned, inexact Newton) or `direct` (UMFPACK LU, exact "
+                      "solves, the reference; memory grows fast beyond ~200k unknowns in 3D)"},
+              {.name = "preconditioner",
+               .type = KeyType::choice,
+               .default_value = "auto",
+               .choices = {"auto", "ilu", "gamg"},
+               .doc = "krylov only: `ilu` (ILU(0), RCM ordering, rebuilt per matrix), `gamg` (algebraic multigrid "
+                      "with the rigid-body modes, interpolation kept while the pattern stays) or `auto` (ilu below "
+                      "gamg_from unknowns, gamg from there on)"},
+              {.name = "gamg_from",
+               .type = KeyType::integer,
+               .default_value = "200000",
+               .min = at_least(1),
+               .doc = "preconditioner = \"auto\": unknowns from which gamg is used"},
+              {.name = "max_linear_iterations",
+               .type = KeyType::integer,
+               .default_value = "400",
+               .min = at_least(1),
+               .doc = "GMRES iterations per solve; a solve that reaches them returns its best iterate and Newton "
+                      "judges the residual"},
+              {.name = "forcing_max",
+               .type = KeyType::number,
+               .default_value = "0.1",
+               .min = above(0),
+               .max = below(1),
+               .doc = "krylov: the loosest relative tolerance of a linear solve (Eisenstat–Walker η_max); later "
+                      "iterations tighten it as Newton converges"},
+              {.name = "modified_newton",
+               .type = KeyType::boolean,
+               .default_value = "false",
+               .doc = "keep a tangent (and its factorization or preconditioner) across iterations and steps while "
+                      "each iteration reduces the residual 4×; linear convergence, fewer assemblies, same "
+                      "conservation"},
+              {.name = "petsc_options",
+               .type = KeyType::string,
+               .default_value = "",
+               .doc = "krylov: extra PETSc options, e.g. \"-ksp_monitor\" (process-wide)"},
+          }};
 }
 
 SectionSpec loads_section() {
@@ -326,7 +373,7 @@ SectionSpec active_set_section() {
 
 const std::vector<SectionSpec>& scenario_sections() {
   static const std::vector<SectionSpec> sections = {
-      top_level(),        time_section(), newton_section(),   loads_section(),   output_section(),     body_section(),
+      top_level(),        time_section(), newton_section(),   solver_section(),  loads_section(),   output_section(),     body_section(),
       material_section(), mesh_section(), boundary_section(), contact_section(), active_set_section(),
   };
   return sections;

@@ -139,8 +139,15 @@ Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& 
   f.setting("[time] mass", sc.time.mass == io::MassKind::lumped ? "lumped" : "consistent");
   f.add("[newton] residual_tolerance", fmt::format("{}", sc.newton.residual_tolerance),
         [&](Hasher& h) { h.value(sc.newton.residual_tolerance); });
-  // changes the iterates at round-off level
-  f.setting("[newton] reuse_factorization", sc.newton.reuse_factorization ? "true" : "false");
+  // these change the iterates at round-off level
+  f.setting("[solver] method", sc.solver.method);
+  f.setting("[solver] preconditioner", sc.solver.preconditioner);
+  f.setting("[solver] gamg_from", fmt::format("{}", sc.solver.gamg_from));
+  f.setting("[solver] max_linear_iterations", fmt::format("{}", sc.solver.max_linear_iterations));
+  f.add("[solver] forcing_max", fmt::format("{}", sc.solver.forcing_max),
+        [&](Hasher& h) { h.value(sc.solver.forcing_max); });
+  f.setting("[solver] modified_newton", sc.solver.modified_newton ? "true" : "false");
+  f.setting("[solver] petsc_options", sc.solver.petsc_options);
   f.setting("contact pairs", fmt::format("{}", sc.contacts.size()));
   for (std::size_t i = 0; i < sc.contacts.size(); ++i) add_contact(f, i, sc.contacts[i]);
   return f.take();

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <memory>
 
@@ -65,6 +66,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
                          sc.output.contact_state, options.restart ? std::optional<double>(state.time) : std::nullopt);
   io::write_atomically(dir / "scenario.toml", sc.text);
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
+  std::ofstream cutback_log(dir / "cutbacks.log", state.step > 0 ? std::ios::app : std::ios::trunc);
   const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
     output.write(state, d0, StepRecord{}, drift.add(d0, totals), finished(sc.time, state) || max_steps == 0);
@@ -98,6 +100,12 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
           file.string()));
     }
     summary.min_dt = std::min(summary.min_dt, dt);
+    if (failures > 0) {  // why, for the user and in the output folder
+      const std::string line = fmt::format("step {}: {} failed attempt(s), the last: {}\n", state.step, failures,
+                                           stepper.last_failure());
+      cutback_log << line << std::flush;
+      if (options.progress) fmt::print(options.progress, "\ncutback at {}", line);
+    }
     const time::Diagnostics d = time::diagnostics<D>(assembler, state);
     const Drifts drifts = drift.add(d, totals);
     const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
@@ -151,6 +159,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.cutbacks = control.cutbacks - first_cutbacks;
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();
+  summary.linear_solver = integrator.linear_solver().name();
   io::write_atomically(dir / "summary.json", summary_json(summary, problem.model.num_dofs(), origin));
   return summary;
 }

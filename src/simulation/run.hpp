@@ -22,7 +22,8 @@ struct RunOptions {
 };
 
 /// Runs the scenario, writing history.csv, steps.csv (step, time, dt,
-/// cutbacks), VTU/PVD output and checkpoints. A step that fails is retried
+/// cutbacks), cutbacks.log (why each cut back step failed), VTU/PVD output
+/// and checkpoints. A step that fails is retried
 /// from the same state with Δt halved, down to [time].min_step; Δt grows
 /// back after StepControl::kGrowAfter good steps. Throws InputError on bad
 /// input and SolverError when a step fails at the floor: the output up to

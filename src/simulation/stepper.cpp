@@ -7,10 +7,23 @@
 namespace conserve::simulation {
 namespace {
 
-solver::NewtonSettings newton_settings(const io::NewtonSpec& n) {
+solver::NewtonSettings newton_settings(const io::NewtonSpec& n, const io::SolverSpec& s) {
   return {.max_iterations = n.max_iterations,
           .residual_tolerance = n.residual_tolerance,
-          .reuse_factorization = n.reuse_factorization};
+          .modified_newton = s.modified_newton,
+          .forcing_max = s.forcing_max};
+}
+
+solver::LinearSolverSettings linear_settings(const io::SolverSpec& s) {
+  solver::LinearSolverSettings l;
+  l.method = s.method == "direct" ? solver::Method::direct : solver::Method::krylov;
+  l.preconditioner = s.preconditioner == "ilu"    ? solver::Preconditioner::ilu
+                     : s.preconditioner == "gamg" ? solver::Preconditioner::gamg
+                                                  : solver::Preconditioner::automatic;
+  l.gamg_from = s.gamg_from;
+  l.max_iterations = s.max_linear_iterations;
+  l.petsc_options = s.petsc_options;
+  return l;
 }
 
 fem::StressScheme stress_scheme(io::StressScheme s) {
@@ -26,8 +39,9 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
       assembler_(std::make_unique<assembly::Assembler<D>>(problem_.model, scenario.time.mass == io::MassKind::lumped)),
       contacts_(std::make_unique<contact::ActiveSet<D>>(problem_.model, make_contact_pairs<D>(scenario, problem_.model))),
       integrator_(std::make_unique<time::Integrator<D>>(*assembler_, stress_scheme(scenario.time.scheme),
-                                                         newton_settings(scenario.newton), contacts_.get(),
-                                                         scenario.active_set.max_passes)),
+                                                         newton_settings(scenario.newton, scenario.solver),
+                                                         contacts_.get(), scenario.active_set.max_passes,
+                                                         linear_settings(scenario.solver))),
       control_{.dt = scenario.time.step} {}
 
 template <int D>
@@ -45,6 +59,7 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       }
       return record;
     } catch (const SolverError& e) {
+      last_failure_ = e.what();
       contacts_->set_constraints(saved);
       integrator_->drop_factorization();
       if (0.5 * control_.dt < scenario_.time.min_step) throw FloorReached(e.what(), control_.dt);

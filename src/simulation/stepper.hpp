@@ -55,6 +55,8 @@ class Stepper {
   /// towards the scenario's after StepControl::kGrowAfter good steps.
   /// `dt_used` and `failures` tell what it took. Throws FloorReached.
   StepRecord advance(model::State& state, double& dt_used, int& failures);
+  /// Why the last failed attempt of advance() failed (empty if none has).
+  [[nodiscard]] const std::string& last_failure() const { return last_failure_; }
 
  private:
   const io::Scenario& scenario_;
@@ -63,6 +65,7 @@ class Stepper {
   std::unique_ptr<contact::ActiveSet<D>> contacts_;
   std::unique_ptr<time::Integrator<D>> integrator_;
   StepControl control_;
+  std::string last_failure_;
 };
 
 }  // namespace conserve::simulation

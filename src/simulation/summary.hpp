@@ -35,6 +35,7 @@ struct RunSummary {
   double min_det_F = 0.0;           ///< smallest det F of a cell at a step's end
   std::filesystem::path output_directory;
   solver::Timings timings;      ///< where the wall time went
+  std::string linear_solver;    ///< the back end's name, e.g. "GMRES + ILU(0)"
   double output_seconds = 0.0;  ///< writing history and VTU files
   std::int64_t cutbacks = 0;    ///< failed step attempts retried with Δt halved
   double min_dt = 0.0;          ///< smallest step size used [s]

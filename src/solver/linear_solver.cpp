@@ -1,62 +1,15 @@
 #include "solver/linear_solver.hpp"
 
-#include <fmt/format.h>
-#include <algorithm>
-
-#include "core/error.hpp"
+#include "solver/direct_solver.hpp"
+#include "solver/krylov_solver.hpp"
 
 namespace conserve::solver {
 
-bool LinearSolver::same_pattern(const SparseMatrix& A) const {
-  return static_cast<Eigen::Index>(outer_.size()) == A.outerSize() + 1 &&
-         static_cast<Eigen::Index>(inner_.size()) == A.nonZeros() &&
-         std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
-         std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
-}
-
-LinearSolver::LinearSolver() {
-  // Newton corrects the solution itself: UMFPACK's iterative refinement
-  // (two extra solves and products per solve by default) is wasted work.
-  lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;
-  lu_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
-  lu_.umfpackControl()(UMFPACK_STRATEGY) = UMFPACK_STRATEGY_SYMMETRIC;
-}
-
-namespace {
-std::string umfpack_status(int code) {
-  switch (code) {
-    case UMFPACK_WARNING_singular_matrix: return "singular matrix";
-    case UMFPACK_ERROR_out_of_memory: return "out of memory";
-    case UMFPACK_ERROR_invalid_matrix: return "invalid matrix";
-    default: return fmt::format("UMFPACK status {}", code);
-  }
-}
-}  // namespace
-
-void LinearSolver::factorize(const SparseMatrix& A) {
-  ScopedTimer timer(timings_ ? timings_->factorization : unused_);
-  if (timings_) ++timings_->factorizations;
-  const bool analyse = !same_pattern(A);
-  if (analyse) {
-    A_ = A.cast<double>();  // copies the pattern into 64-bit indices
-    if (timings_) ++timings_->analyses;
-    outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
-    inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
-    lu_.analyzePattern(A_);
-    ++analyses_;
-  } else {
-    std::copy(A.valuePtr(), A.valuePtr() + A.nonZeros(), A_.valuePtr());
-  }
-  lu_.factorize(A_);
-  if (lu_.info() != Eigen::Success)
-    throw SolverError(fmt::format("UMFPACK could not factorise the tangent matrix ({} equations): {}", A.rows(),
-                                  umfpack_status(lu_.umfpackFactorizeReturncode())));
-}
-
-void LinearSolver::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
-  ScopedTimer timer(timings_ ? timings_->solve : unused_);
-  x = lu_.solve(b);
-  if (lu_.info() != Eigen::Success) throw SolverError("UMFPACK solve failed");
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, int unknowns) {
+  if (settings.method == Method::direct) return std::make_unique<DirectSolver>();
+  Preconditioner pc = settings.preconditioner;
+  if (pc == Preconditioner::automatic) pc = unknowns < settings.gamg_from ? Preconditioner::ilu : Preconditioner::gamg;
+  return std::make_unique<KrylovSolver>(pc, settings);
 }
 
 }  // namespace conserve::solver

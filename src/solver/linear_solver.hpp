@@ -1,39 +1,80 @@
 #pragma once
-/// Sparse direct solve of the (non-symmetric) Newton systems with UMFPACK.
-/// The symbolic analysis is kept and reused while the sparsity pattern does
-/// not change; only the numeric factorisation is redone per iteration.
-/// UMFPACK's 64-bit interface (umfpack_dl) is used: the 32-bit one fails on
-/// 3D problems of about 200k unknowns, whose LU factors pass 2^31 entries.
-#include <Eigen/UmfPackSupport>
-#include <vector>
+/// The linear solver Newton uses, as an interface with two back ends:
+///   direct  UMFPACK LU (solver/direct_solver.hpp), exact, the reference;
+///   krylov  PETSc GMRES, right-preconditioned by ILU(0) or by GAMG with the
+///           rigid-body near-null space (solver/krylov_solver.hpp), solving
+///           to the relative tolerance Newton asks for.
+/// A solver is given a matrix (set_operator) and then solves with it any
+/// number of times; what it derives from the matrix (a factorization, a
+/// preconditioner) is its own business.
+#include <memory>
+#include <string>
 
 #include "core/types.hpp"
 #include "solver/timings.hpp"
 
 namespace conserve::solver {
 
+enum class Method { krylov, direct };
+enum class Preconditioner { automatic, ilu, gamg };
+
+struct LinearSolverSettings {
+  Method method = Method::krylov;
+  /// automatic: ILU(0) below `gamg_from` unknowns, GAMG from there on
+  /// (bench/results/size_sweep.md measures where GAMG starts to win).
+  Preconditioner preconditioner = Preconditioner::automatic;
+  int gamg_from = 200000;
+  /// GMRES iterations per solve; a solve that reaches them returns its
+  /// best iterate and Newton judges the nonlinear residual.
+  int max_iterations = 400;
+  /// Extra PETSc options ("-ksp_monitor -pc_gamg_threshold 0.02"), applied
+  /// process-wide before the solver reads its options.
+  std::string petsc_options;
+};
+
+/// What a solve did.
+struct LinearSolve {
+  int iterations = 0;     ///< Krylov iterations (1 for a direct solve)
+  double residual = 0.0;  ///< |b − A x| reached (0 for a direct solve: round-off)
+};
+
 class LinearSolver {
  public:
-  LinearSolver();
-  /// Factorises A (re-analysing only if its pattern differs from the last
-  /// one). Throws SolverError if A is singular.
-  void factorize(const SparseMatrix& A);
-  /// Solves A x = b with the last factorisation.
-  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
-  /// Number of symbolic analyses done (for tests of the reuse).
-  [[nodiscard]] int analyses() const { return analyses_; }
-  /// Where time went; factorization, solve and the counts are filled here.
+  virtual ~LinearSolver() = default;
+  /// The matrix of the following solves. Throws SolverError if it cannot
+  /// be used (a singular matrix for the direct solver).
+  virtual void set_operator(const SparseMatrix& A) = 0;
+  /// Solves A x = b with |b − A x| ≤ rtol·|b| (the direct solver ignores
+  /// rtol: it is exact to round-off). A Krylov solve that runs out of
+  /// iterations returns its best x. Throws SolverError on a non-finite x
+  /// or a failed preconditioner.
+  virtual LinearSolve solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, double rtol) = 0;
+  /// True for a direct solver: Newton then needs no forcing terms.
+  [[nodiscard]] virtual bool exact() const = 0;
+  /// Forgets what is kept from earlier matrices beyond the present one
+  /// (GAMG's interpolation), so that a restarted run, which starts without
+  /// it, repeats an uninterrupted one bit for bit.
+  virtual void reset() {}
+  /// Reference coordinates of the nodes (D × nodes) for preconditioners
+  /// that use the rigid-body modes; ignored by the others.
+  virtual void set_coordinates(const Eigen::MatrixXd& /*X*/) {}
+  /// "UMFPACK LU", "GMRES + ILU(0)", ... for the run's report.
+  [[nodiscard]] virtual std::string name() const = 0;
+  /// Where time went (may be null).
   void set_timings(Timings* timings) { timings_ = timings; }
 
- private:
-  using LongMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
-  [[nodiscard]] bool same_pattern(const SparseMatrix& A) const;
-  LongMatrix A_;  ///< 64-bit-index copy of the matrix UMFPACK factorises (it keeps a reference)
-  Eigen::UmfPackLU<LongMatrix> lu_;
-  std::vector<int> outer_, inner_;
-  int analyses_ = 0;
+ protected:
+  double& clock(double Timings::*phase) { return timings_ ? timings_->*phase : unused_; }
+  void count(int Timings::*counter, int n = 1) {
+    if (timings_) timings_->*counter += n;
+  }
   Timings* timings_ = nullptr;
-  mutable double unused_ = 0.0;  ///< timer sink when no Timings is set
+
+ private:
+  double unused_ = 0.0;
 };
+
+/// The back end `settings` names, for systems of `unknowns` equations.
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, int unknowns);
 
 }  // namespace conserve::solver

@@ -34,16 +34,49 @@ std::string judge(NewtonReport& report, double floor_scale, const NewtonSettings
   return kIterate;
 }
 
+/// The relative linear tolerances η_k of an inexact Newton iteration
+/// (NewtonSettings::forcing_max).
+class Forcing {
+ public:
+  Forcing(double max, double nonlinearity) : max_(max), eta_(max), c_(nonlinearity) {}
+
+  /// η for the solve at residual norm r towards |r| ≤ target.
+  double next(double r, double target) {
+    const double floor = 0.25 * target / r;  // no tighter than the tolerance asks
+    // Unknown C (the first solve of a run): solve to the tolerance, which
+    // measures C without the elastic errors a loose solve would add.
+    if (c_ < 0.0 || c_ * r * r <= 0.25 * target) return std::min(floor, max_);  // the last iteration
+    return std::clamp(eta_, floor, max_);
+  }
+
+  /// After the solve at r_old reached the linear residual `linear` and
+  /// the new residual is r_new. C is measured only while r_new is well
+  /// above the tolerance: below, the remainder is round-off, not |r|².
+  void observe(double r_old, double linear, double r_new, double target) {
+    const double remainder = std::max(r_new - linear, 0.0);  // ≤ |nonlinear remainder|
+    const double eta = remainder / r_old;                    // choice 1
+    const double safeguard = std::pow(eta_, kGolden);
+    eta_ = std::min(safeguard > 0.1 ? std::max(eta, safeguard) : eta, max_);
+    if (r_new > 4.0 * target) c_ = remainder / (r_old * r_old);
+  }
+  [[nodiscard]] double nonlinearity() const { return c_; }
+
+ private:
+  static constexpr double kGolden = 1.618033988749895;
+  double max_, eta_, c_;
+};
+
 }  // namespace
 
 NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const NewtonSettings& settings,
-                          bool reusable) {
+                          bool reusable, double* nonlinearity) {
   NewtonReport report;
   Eigen::VectorXd r, dx;
   problem.residual(r);
   report.residual_norms.push_back(r.norm());
   report.floor = problem.residual_floor();
-  bool refactor = !(settings.reuse_factorization && reusable);
+  bool refactor = !(settings.modified_newton && reusable);
+  Forcing forcing(settings.forcing_max, nonlinearity ? *nonlinearity : -1.0);
   for (;;) {
     const double scale = problem.force_scale();
     if (!std::isfinite(scale)) {
@@ -61,8 +94,11 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
       report.failure = fmt::format("{} iterations were not enough", settings.max_iterations);
       return report;
     }
-    if (refactor) solver.factorize(problem.tangent());
-    solver.solve(-r, dx);
+    if (refactor) solver.set_operator(problem.tangent());
+    const double r_old = report.residual_norms.back();
+    const double eta = solver.exact() ? 0.0 : forcing.next(r_old, report.tolerance);
+    const LinearSolve linear = solver.solve(-r, dx, eta);
+    report.linear_iterations += linear.iterations;
     if (!dx.allFinite()) {
       report.failure = "the Newton increment is not finite";
       return report;
@@ -72,8 +108,10 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
     problem.residual(r);
     report.residual_norms.push_back(r.norm());
     report.floor = problem.residual_floor();
+    forcing.observe(r_old, linear.residual, report.residual_norms.back(), report.tolerance);
+    if (nonlinearity) *nonlinearity = forcing.nonlinearity();
     const double ratio = report.residual_norms.back() / report.residual_norms[report.residual_norms.size() - 2];
-    refactor = !settings.reuse_factorization || !(ratio <= settings.reuse_ratio);
+    refactor = !settings.modified_newton || !(ratio <= settings.reuse_ratio);
   }
 }
 

@@ -7,12 +7,14 @@ namespace conserve::solver {
 
 struct Timings {
   double assembly = 0.0;        ///< residual and tangent assembly [s]
-  double elimination = 0.0;     ///< contact reduction (Tᵀ K T′, Tᵀ g) and slave updates [s]
-  double factorization = 0.0;   ///< UMFPACK symbolic + numeric [s]
-  double solve = 0.0;           ///< triangular solves [s]
+  double elimination = 0.0;     ///< contact reduction (Wᵀ K T, Wᵀ g) and slave updates [s]
+  double linear_setup = 0.0;    ///< factorization (symbolic + numeric) or preconditioner set-up [s]
+  double linear_solve = 0.0;    ///< triangular solves or Krylov iterations [s]
   double contact_search = 0.0;  ///< active-set updates: broad and narrow phase [s]
-  int factorizations = 0;
-  int analyses = 0;             ///< symbolic analyses (pattern changes)
+  int linear_setups = 0;        ///< factorizations or preconditioner set-ups
+  int analyses = 0;             ///< symbolic analyses of the direct solver (pattern changes)
+  long long linear_iterations = 0;  ///< Krylov iterations (direct: one per solve)
+  long long linear_solves = 0;
 };
 
 /// Adds the lifetime of the scope to a counter.

@@ -18,15 +18,18 @@ void apply_prescribed(const model::Prescribed& p, double t, Eigen::VectorXd& u, 
 
 template <int D>
 Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme,
-                          solver::NewtonSettings newton, contact::ActiveSet<D>* contacts, int max_passes)
+                          solver::NewtonSettings newton, contact::ActiveSet<D>* contacts, int max_passes,
+                          const solver::LinearSolverSettings& linear)
     : assembler_(assembler),
       scheme_(scheme),
       newton_(newton),
       mask_(assembler.mass(), assembler.model().prescribed.dofs),
       K_(assembler.pattern().make_matrix()),
       contacts_(contacts && !contacts->empty() ? contacts : nullptr),
-      max_passes_(max_passes) {
-  solver_.set_timings(&timings_);
+      max_passes_(max_passes),
+      solver_(solver::make_linear_solver(linear, assembler.model().num_dofs())) {
+  solver_->set_timings(&timings_);
+  solver_->set_coordinates(assembler.model().X);
 }
 
 template <int D>
@@ -49,13 +52,15 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     problem.set_timings(&timings_);
     // A factorization of the plain system stays usable while no constraint
     // is active; a reduced system's T changes from pass to pass.
-    const int factorizations = timings_.factorizations;
+    const int setups = timings_.linear_setups;
     const solver::NewtonReport report =
-        solver::solve_newton(problem, solver_, newton_, elimination.empty() && plain_factorization_);
-    if (timings_.factorizations != factorizations) plain_factorization_ = elimination.empty();
+        solver::solve_newton(problem, *solver_, newton_, elimination.empty() && plain_factorization_,
+                             &nonlinearity_);
+    if (timings_.linear_setups != setups) plain_factorization_ = elimination.empty();
     if (!report.converged) throw SolverError(not_converged(report, state.step + 1, t_np1));
     total.converged = true;
     total.iterations += report.iterations;
+    total.linear_iterations += report.linear_iterations;
     total.residual_norms = report.residual_norms;
     total.tolerance = report.tolerance;
     total.floor = report.floor;

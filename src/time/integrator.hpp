@@ -1,7 +1,8 @@
 #pragma once
 /// Advances the state step by step with the conserving mid-point scheme,
-/// reusing the tangent's pattern and UMFPACK's symbolic analysis.
+/// reusing the tangent's pattern and the linear solver.
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "assembly/assembler.hpp"
@@ -19,7 +20,8 @@ class Integrator {
   /// it must outlive the integrator. `max_passes` bounds the solves of one
   /// step while the active set changes.
   Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme, solver::NewtonSettings newton,
-             contact::ActiveSet<D>* contacts = nullptr, int max_passes = 10);
+             contact::ActiveSet<D>* contacts = nullptr, int max_passes = 10,
+             const solver::LinearSolverSettings& linear = {});
 
   /// Advances `state` by `dt` [s]: predictor u_n + Δt V_n with prescribed
   /// values at t_{n+1} and the active constraints enforced, Newton on the
@@ -31,14 +33,19 @@ class Integrator {
   /// (det F ≤ 0, naming body and cell); the state is then left unchanged.
   solver::NewtonReport step(model::State& state, double dt);
 
-  /// Forgets the factorization kept for reuse (reuse_factorization): at a
-  /// change of Δt, and at checkpoints, so that a restarted run, which starts
-  /// without one, repeats the uninterrupted run bit for bit.
-  void drop_factorization() { plain_factorization_ = false; }
+  /// Forgets the matrix kept for reuse (modified Newton) and what the
+  /// solver keeps across matrices: at a change of Δt, and at checkpoints,
+  /// so that a restarted run, which starts without them, repeats the
+  /// uninterrupted run bit for bit.
+  void drop_factorization() {
+    plain_factorization_ = false;
+    nonlinearity_ = -1.0;
+    solver_->reset();
+  }
 
   /// What the active set did in the last step.
   [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
-  [[nodiscard]] const solver::LinearSolver& linear_solver() const { return solver_; }
+  [[nodiscard]] const solver::LinearSolver& linear_solver() const { return *solver_; }
   /// Accumulated time per phase since construction.
   [[nodiscard]] const solver::Timings& timings() const { return timings_; }
 
@@ -48,12 +55,13 @@ class Integrator {
   solver::NewtonSettings newton_;
   assembly::DirichletMask mask_;
   SparseMatrix K_;
-  solver::LinearSolver solver_;
   contact::ActiveSet<D>* contacts_;
   int max_passes_;
+  std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;
   solver::Timings timings_;
   bool plain_factorization_ = false;  ///< the solver holds a factorization of the unreduced system
+  double nonlinearity_ = -1.0;        ///< the forcing terms' measure of the last solve (solver/newton.hpp)
 
   [[nodiscard]] std::string not_converged(const solver::NewtonReport& report, std::int64_t step, double t) const;
   void check_orientation(const Eigen::VectorXd& u, std::int64_t step, double t) const;

@@ -114,18 +114,20 @@ TEST(Restart, RefusalNamesChangedNodeCoordinates) {
 
 TEST(Restart, RefusesACheckpointOfAnotherThicknessOrSolverPath) {
   // Neither changes a 2D trajectory's displacements by much, but both
-  // change its history: the thickness scales every energy, factorization
-  // reuse moves the iterates at round-off level.
+  // change its history: the thickness scales every energy, the linear
+  // solver moves the iterates at round-off level.
   const auto dir = scratch("restart_other_thickness");
   write_file(dir / "s.toml", kGlancingDiscs);
   std::string thick = kGlancingDiscs;
   thick.replace(thick.find("[body.material]"), 15, "thickness = 0.5\n[body.material]");
   write_file(dir / "thick.toml", thick);
-  write_file(dir / "reuse.toml", kGlancingDiscs + "[newton]\nreuse_factorization = true\n");
+  write_file(dir / "reuse.toml", kGlancingDiscs + "[solver]\nmodified_newton = true\n");
+  write_file(dir / "direct.toml", kGlancingDiscs + "[solver]\nmethod = \"direct\"\n");
   ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10", dir).exit_code, 0);
   for (const auto& [other, what] :
        {std::pair<std::string, std::string>{"thick.toml", "body 'small' thickness = 1, this scenario has 0.5"},
-        {"reuse.toml", "[newton] reuse_factorization = false, this scenario has true"}}) {
+        {"reuse.toml", "[solver] modified_newton = false, this scenario has true"},
+        {"direct.toml", "[solver] method = krylov, this scenario has direct"}}) {
     ASSERT_EQ(run_cli("check " + other, dir).exit_code, 0) << other;
     const CliResult r = run_cli("run " + other + " -q -o b --restart a/checkpoints/ckpt_000010.bin", dir);
     EXPECT_EQ(r.exit_code, 1) << other << ": " << r.err;

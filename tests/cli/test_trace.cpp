@@ -107,10 +107,12 @@ TEST(Trace, SummaryKeepsEveryEarlierKey) {
   for (const char* key : {"wall_seconds", "mean_newton_iterations", "energy_drift", "max_activation_gap", "min_dt"})
     EXPECT_TRUE(j.at(key).is_number()) << key;
   for (const char* key :
-       {"max_newton_iterations", "activations", "releases", "factorizations", "symbolic_analyses", "cutbacks"})
+       {"max_newton_iterations", "activations", "releases", "linear_setups", "linear_solves", "linear_iterations",
+        "symbolic_analyses", "cutbacks"})
     EXPECT_TRUE(j.at(key).is_number_integer()) << key;
   for (const char* key : {"linear_drift", "angular_drift"}) EXPECT_EQ(j.at(key).size(), 3u) << key;
-  for (const char* key : {"assembly", "elimination", "factorization", "solve", "contact_search", "output"})
+  EXPECT_TRUE(j.at("linear_solver").is_string());
+  for (const char* key : {"assembly", "elimination", "linear_setup", "linear_solve", "contact_search", "output"})
     EXPECT_TRUE(j.at("seconds").at(key).is_number()) << key;
   EXPECT_EQ(j.at("min_dt"), 0.01);
 }

@@ -1,0 +1,208 @@
+#include "solver/krylov_solver.hpp"
+
+#include <fmt/format.h>
+#include <petscksp.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "core/error.hpp"
+#include "solver/petsc_session.hpp"
+
+namespace conserve::solver {
+
+using petsc::check;
+
+struct KrylovSolver::Petsc {
+  Preconditioner kind;
+  LinearSolverSettings settings;
+  ::Mat A = nullptr;
+  KSP ksp = nullptr;
+  ::Vec b = nullptr, x = nullptr;
+  bool operators_set = false;
+  std::vector<int> outer, inner;    ///< the CSC pattern the matrix was made for
+  std::vector<PetscInt> row_start, column;  ///< the same pattern as CSR
+  std::vector<int> from_csc;        ///< CSR position → CSC position
+  Eigen::MatrixXd X;                ///< reference coordinates (GAMG's rigid-body modes)
+
+  ~Petsc() { destroy(); }
+
+  void destroy() {
+    if (ksp) KSPDestroy(&ksp);
+    if (A) MatDestroy(&A);
+    if (b) VecDestroy(&b);
+    if (x) VecDestroy(&x);
+  }
+
+  void make_ksp() {
+    if (ksp) KSPDestroy(&ksp);
+    check(KSPCreate(PETSC_COMM_SELF, &ksp), "KSPCreate");
+    check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+    check(KSPGMRESSetRestart(ksp, 60), "KSPGMRESSetRestart");
+    // Right preconditioning: the tolerance applies to |b − A x| itself.
+    check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");
+    PC pc = nullptr;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    if (kind == Preconditioner::gamg) {
+      check(PCSetType(pc, PCGAMG), "PCSetType(gamg)");
+      check(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
+    } else {
+      check(PCSetType(pc, PCILU), "PCSetType(ilu)");
+      check(PCFactorSetLevels(pc, 0), "PCFactorSetLevels");
+      check(PCFactorSetShiftType(pc, MAT_SHIFT_NONZERO), "PCFactorSetShiftType");
+    }
+    check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+    operators_set = false;
+  }
+
+  [[nodiscard]] bool same_pattern(const SparseMatrix& M) const {
+    return static_cast<Eigen::Index>(outer.size()) == M.outerSize() + 1 &&
+           static_cast<Eigen::Index>(inner.size()) == M.nonZeros() &&
+           std::equal(outer.begin(), outer.end(), M.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), M.innerIndexPtr());
+  }
+
+  /// A new PETSc matrix for the pattern of M (compressed columns → rows).
+  void new_matrix(const SparseMatrix& M) {
+    const int n = static_cast<int>(M.rows());
+    outer.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.outerSize() + 1);
+    inner.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
+    row_start.assign(n + 1, 0);
+    for (int k = 0; k < M.nonZeros(); ++k) ++row_start[inner[k] + 1];
+    for (int i = 0; i < n; ++i) row_start[i + 1] += row_start[i];
+    column.resize(M.nonZeros());
+    from_csc.resize(M.nonZeros());
+    std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1);
+    for (int j = 0; j < n; ++j)  // columns in order: each row's columns come out sorted
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const PetscInt p = next[inner[k]]++;
+        column[p] = j;
+        from_csc[p] = k;
+      }
+    if (A) MatDestroy(&A);
+    check(MatCreate(PETSC_COMM_SELF, &A), "MatCreate");
+    check(MatSetSizes(A, n, n, n, n), "MatSetSizes");
+    check(MatSetType(A, MATSEQAIJ), "MatSetType");
+    const int dim = static_cast<int>(X.rows());
+    if (dim > 0 && n % dim == 0) check(MatSetBlockSize(A, dim), "MatSetBlockSize");
+    std::vector<PetscScalar> zeros(M.nonZeros(), 0.0);
+    check(MatSeqAIJSetPreallocationCSR(A, row_start.data(), column.data(), zeros.data()), "MatSeqAIJSetPreallocationCSR");
+    if (kind == Preconditioner::gamg && dim > 0 && X.size() == n) set_rigid_body_modes(dim);
+    if (!b) {
+      check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+    } else {
+      PetscInt size = 0;
+      check(VecGetSize(b, &size), "VecGetSize");
+      if (size != n) {
+        VecDestroy(&b);
+        VecDestroy(&x);
+        check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
+      }
+    }
+    operators_set = false;
+  }
+
+  void set_rigid_body_modes(int dim) {
+    ::Vec coordinates = nullptr;
+    check(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(X.size()), &coordinates), "VecCreateSeq");
+    check(VecSetBlockSize(coordinates, dim), "VecSetBlockSize");
+    PetscScalar* c = nullptr;
+    check(VecGetArrayWrite(coordinates, &c), "VecGetArrayWrite");
+    std::copy(X.data(), X.data() + X.size(), c);  // column-major D × nodes: node-major dofs
+    check(VecRestoreArrayWrite(coordinates, &c), "VecRestoreArrayWrite");
+    MatNullSpace modes = nullptr;
+    check(MatNullSpaceCreateRigidBody(coordinates, &modes), "MatNullSpaceCreateRigidBody");
+    check(MatSetNearNullSpace(A, modes), "MatSetNearNullSpace");
+    MatNullSpaceDestroy(&modes);
+    VecDestroy(&coordinates);
+  }
+
+  void copy_values(const SparseMatrix& M) {
+    PetscScalar* v = nullptr;
+    check(MatSeqAIJGetArrayWrite(A, &v), "MatSeqAIJGetArrayWrite");
+    const double* values = M.valuePtr();
+    const auto size = static_cast<std::ptrdiff_t>(from_csc.size());
+    for (std::ptrdiff_t p = 0; p < size; ++p) v[p] = values[from_csc[p]];
+    check(MatSeqAIJRestoreArrayWrite(A, &v), "MatSeqAIJRestoreArrayWrite");
+  }
+};
+
+KrylovSolver::KrylovSolver(Preconditioner preconditioner, const LinearSolverSettings& settings)
+    : petsc_(std::make_unique<Petsc>()) {
+  petsc::ensure_initialized();
+  if (preconditioner == Preconditioner::automatic)
+    throw Error("KrylovSolver: the automatic preconditioner must be resolved by make_linear_solver");
+  petsc_->kind = preconditioner;
+  petsc_->settings = settings;
+  if (!settings.petsc_options.empty())
+    check(PetscOptionsInsertString(nullptr, settings.petsc_options.c_str()), "[solver] petsc_options");
+  petsc_->make_ksp();
+}
+
+KrylovSolver::~KrylovSolver() = default;
+
+std::string KrylovSolver::name() const {
+  return petsc_->kind == Preconditioner::gamg ? "GMRES + GAMG" : "GMRES + ILU(0)";
+}
+
+void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
+
+void KrylovSolver::reset() {
+  petsc_->make_ksp();  // a new KSP keeps no interpolation
+}
+
+void KrylovSolver::set_operator(const SparseMatrix& M) {
+  ScopedTimer timer(clock(&Timings::linear_setup));
+  count(&Timings::linear_setups);
+  Petsc& p = *petsc_;
+  if (!p.A || !p.same_pattern(M)) {
+    // A new pattern needs a new ordering and symbolic factorization (or a
+    // new GAMG hierarchy): the PC keeps them while the matrix is the same.
+    p.make_ksp();
+    p.new_matrix(M);
+  }
+  p.copy_values(M);
+  if (!p.operators_set) {
+    check(KSPSetOperators(p.ksp, p.A, p.A), "KSPSetOperators");
+    p.operators_set = true;
+  }
+  check(KSPSetUp(p.ksp), "the preconditioner set-up");  // builds the preconditioner now, timed here
+}
+
+LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out, double rtol) {
+  ScopedTimer timer(clock(&Timings::linear_solve));
+  Petsc& p = *petsc_;
+  if (!p.A) throw Error("KrylovSolver::solve before set_operator");
+  PetscScalar* v = nullptr;
+  check(VecGetArrayWrite(p.b, &v), "VecGetArrayWrite");
+  std::copy(rhs.data(), rhs.data() + rhs.size(), v);
+  check(VecRestoreArrayWrite(p.b, &v), "VecRestoreArrayWrite");
+  // GMRES cannot go below round-off; a relative tolerance above 1 would
+  // accept x = 0.
+  const double tolerance = std::clamp(rtol, 1e-14, 0.5);
+  check(KSPSetTolerances(p.ksp, tolerance, 0.0, 1e30, p.settings.max_iterations), "KSPSetTolerances");
+  check(KSPSolve(p.ksp, p.b, p.x), "the GMRES solve");
+  PetscInt iterations = 0;
+  PetscReal residual = 0.0;
+  KSPConvergedReason reason;
+  check(KSPGetResidualNorm(p.ksp, &residual), "KSPGetResidualNorm");
+  check(KSPGetIterationNumber(p.ksp, &iterations), "KSPGetIterationNumber");
+  check(KSPGetConvergedReason(p.ksp, &reason), "KSPGetConvergedReason");
+  if (timings_) ++timings_->linear_solves, timings_->linear_iterations += iterations;
+  // Running out of iterations, or a breakdown (GMRES asked for a tolerance
+  // below the round-off of its right-hand side), leaves the best iterate,
+  // which Newton judges by the nonlinear residual; NaN, or a failed
+  // preconditioner, leaves nothing usable.
+  if (reason == KSP_DIVERGED_NANORINF || reason == KSP_DIVERGED_PC_FAILED || reason == KSP_DIVERGED_NULL ||
+      reason == KSP_DIVERGED_INDEFINITE_MAT)
+    throw SolverError(fmt::format("GMRES failed after {} iterations: {}", iterations, KSPConvergedReasons[reason]));
+  const PetscScalar* r = nullptr;
+  out.resize(rhs.size());
+  check(VecGetArrayRead(p.x, &r), "VecGetArrayRead");
+  std::copy(r, r + rhs.size(), out.data());
+  check(VecRestoreArrayRead(p.x, &r), "VecRestoreArrayRead");
+  if (!out.allFinite()) throw SolverError("GMRES gave a non-finite increment");
+  return {static_cast<int>(iterations), static_cast<double>(residual)};
+}
+
+}  // namespace conserve::solver

@@ -1,0 +1,38 @@
+#pragma once
+/// PETSc GMRES on the (non-symmetric, not always definite) Newton systems,
+/// right-preconditioned so that its tolerance is on the true residual
+/// |b − A x|. Preconditioners:
+///   ILU(0) in the nodes' order, rebuilt for every matrix (a
+///     stale one costs more GMRES iterations than a new one costs to make);
+///   GAMG (smoothed aggregation) with the rigid-body modes of the nodes as
+///     near-null space; its interpolation is kept while the pattern stays
+///     and only the coarse operators are recomputed.
+/// PETSc objects are hidden here (pimpl): nothing above this layer sees a
+/// PETSc header. One process for now (PETSC_COMM_SELF).
+#include <memory>
+
+#include "solver/linear_solver.hpp"
+
+namespace conserve::solver {
+
+class KrylovSolver final : public LinearSolver {
+ public:
+  /// `preconditioner` is ilu or gamg (automatic is resolved by the caller).
+  KrylovSolver(Preconditioner preconditioner, const LinearSolverSettings& settings);
+  ~KrylovSolver() override;
+  KrylovSolver(const KrylovSolver&) = delete;
+  KrylovSolver& operator=(const KrylovSolver&) = delete;
+
+  void set_operator(const SparseMatrix& A) override;
+  LinearSolve solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, double rtol) override;
+  [[nodiscard]] bool exact() const override { return false; }
+  void reset() override;
+  void set_coordinates(const Eigen::MatrixXd& X) override;
+  [[nodiscard]] std::string name() const override;
+
+ private:
+  struct Petsc;
+  std::unique_ptr<Petsc> petsc_;
+};
+
+}  // namespace conserve::solver

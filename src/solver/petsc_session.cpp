@@ -1,0 +1,41 @@
+#include "solver/petsc_session.hpp"
+
+#include <fmt/format.h>
+#include <petscsys.h>
+
+#include <cstdlib>
+
+#include "core/error.hpp"
+
+namespace conserve::solver::petsc {
+namespace {
+
+struct Session {
+  Session() {
+    // OpenMPI refuses to start as root unless told; a singleton process
+    // (no mpirun) is what a plain run is. Only set when absent.
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 0);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 0);
+    // Errors must reach the caller as exceptions, not as PETSc's
+    // traceback on stderr or its signal handler.
+    PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+    if (PetscInitializeNoArguments() != 0) throw SolverError("PETSc could not be initialised");
+    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  }
+  ~Session() { PetscFinalize(); }
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+};
+
+}  // namespace
+
+void ensure_initialized() { static const Session session; }
+
+void check(int code, const char* what) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(static_cast<PetscErrorCode>(code), &text, nullptr);
+  throw SolverError(fmt::format("{}: PETSc error {} ({})", what, code, text ? text : "no message"));
+}
+
+}  // namespace conserve::solver::petsc
