@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs every build, test, plotting and benchmark dependency of conserve
+# (petsc-dev: PETSc with OpenMPI, the Krylov and multigrid back ends)
 # from Debian 12 packages (`time` is GNU time, for bench/run_paper.sh;
 # python3-vtk9 and python3-meshio read the VTU output in the tests).
 # Idempotent: packages already present are skipped by apt, and the package
@@ -9,6 +10,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libopenblas-dev libmetis-dev
+  petsc-dev
   libgmsh-dev gmsh
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev

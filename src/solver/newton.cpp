@@ -106,7 +106,25 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
     problem.update(dx);
     ++report.iterations;
     problem.residual(r);
-    report.residual_norms.push_back(r.norm());
+    double r_new = r.norm();
+    if (settings.line_search_halvings > 0 && !(r_new < r_old) && std::isfinite(r_old)) {
+      // Backtrack: try Δ/2, Δ/4, … from the same iterate, keep the best.
+      double best = r_new, best_fraction = 1.0, fraction = 1.0;
+      for (int h = 0; h < settings.line_search_halvings && !(best < r_old); ++h) {
+        if (!problem.revert()) break;
+        fraction *= 0.5;
+        problem.update(fraction * dx);
+        problem.residual(r);
+        ++report.backtracks;
+        if (r.norm() < best) best = r.norm(), best_fraction = fraction;
+      }
+      if (best_fraction != fraction && problem.revert()) {
+        problem.update(best_fraction * dx);
+        problem.residual(r);
+      }
+      r_new = r.norm();
+    }
+    report.residual_norms.push_back(r_new);
     report.floor = problem.residual_floor();
     forcing.observe(r_old, linear.residual, report.residual_norms.back(), report.tolerance);
     if (nonlinearity) *nonlinearity = forcing.nonlinearity();

@@ -18,6 +18,9 @@ class NewtonProblem {
   virtual const SparseMatrix& tangent() = 0;
   /// Applies the increment Δ solved from K Δ = −r.
   virtual void update(const Eigen::VectorXd& increment) = 0;
+  /// Undoes the last update() (for the line search); returns false, doing
+  /// nothing, if the problem cannot.
+  virtual bool revert() { return false; }
   /// Reference force of the problem at the last residual [N]: |r| ≤ tol ·
   /// force_scale converges.
   [[nodiscard]] virtual double force_scale() const = 0;
@@ -59,11 +62,18 @@ struct NewtonSettings {
   /// than a quarter of the nonlinear tolerance (or the round-off floor)
   /// requires. Convergence is judged on the nonlinear residual alone.
   double forcing_max = 0.1;
+  /// Backtracking line search: an increment that does not lower |r| is
+  /// halved, up to line_search_halvings times, keeping the fraction with
+  /// the smallest |r| (0: full steps only). Far from the solution (a
+  /// vibrating body at a step many times its wave-transit time) a full
+  /// Newton step can overshoot by orders of magnitude.
+  int line_search_halvings = 4;
 };
 
 struct NewtonReport {
   bool converged = false;
   int iterations = 0;                  ///< linear solves done
+  int backtracks = 0;                  ///< line-search halvings
   long long linear_iterations = 0;     ///< Krylov iterations over those solves
   std::vector<double> residual_norms;  ///< |r| before each solve and at the end
   double tolerance = 0.0;              ///< residual_tolerance · force_scale [N]

@@ -61,6 +61,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     total.converged = true;
     total.iterations += report.iterations;
     total.linear_iterations += report.linear_iterations;
+    total.backtracks += report.backtracks;
     total.residual_norms = report.residual_norms;
     total.tolerance = report.tolerance;
     total.floor = report.floor;

@@ -101,8 +101,16 @@ void StepProblem<D>::update(const Eigen::VectorXd& increment) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
     elimination_->update(increment, u_np1_);  // (45), (60)–(64)
   } else {
+    u_before_ = u_np1_;
     u_np1_ += increment;
   }
+}
+
+template <int D>
+bool StepProblem<D>::revert() {
+  if (eliminating() || u_before_.size() != u_np1_.size()) return false;
+  u_np1_ = u_before_;
+  return true;
 }
 
 template class StepProblem<2>;
