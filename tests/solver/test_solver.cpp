@@ -211,6 +211,41 @@ TEST(Newton, InexactNewtonConvergesAsFarAsExactNewtonWithFewerLinearIterations) 
               ew.iterations, ew.linear_iterations, tight.iterations, tight.linear_iterations);
 }
 
+/// r(x) = atan(x) − 0: full Newton steps from |x0| > 1.39 overshoot and
+/// diverge; halving them converges.
+class AtanProblem final : public NewtonProblem {
+ public:
+  explicit AtanProblem(double x0) : x_(x0), before_(x0) {
+    K_.resize(1, 1);
+    K_.insert(0, 0) = 1.0;
+    K_.makeCompressed();
+  }
+  void residual(Eigen::VectorXd& r) override { r = Eigen::VectorXd::Constant(1, std::atan(x_)); }
+  const SparseMatrix& tangent() override {
+    K_.coeffRef(0, 0) = 1.0 / (1.0 + x_ * x_);
+    return K_;
+  }
+  void update(const Eigen::VectorXd& dx) override { before_ = x_, x_ += dx[0]; }
+  bool revert() override { return x_ = before_, true; }
+  [[nodiscard]] double force_scale() const override { return 1.0; }
+  [[nodiscard]] double residual_floor() const override { return 1e-16; }
+
+ private:
+  SparseMatrix K_;
+  double x_, before_;
+};
+
+TEST(Newton, LineSearchTamesAnOvershootingStep) {
+  DirectSolver s;
+  AtanProblem full(3.0), searched(3.0);
+  const NewtonReport plain = solve_newton(full, s, NewtonSettings{.max_iterations = 5, .line_search_halvings = 0});
+  const NewtonReport ls = solve_newton(searched, s, NewtonSettings{});
+  EXPECT_FALSE(plain.converged);  // the negative control: full steps diverge
+  ASSERT_TRUE(ls.converged) << ls.failure;
+  EXPECT_GT(ls.backtracks, 0);
+  EXPECT_LE(ls.final_residual(), 1e-12);
+}
+
 TEST(Newton, ReportsNonConvergence) {
   CubicProblem p(10);
   DirectSolver s;
