@@ -34,6 +34,8 @@ void print_summary(const RunSummary& s) {
       t.assembly, t.elimination, t.linear_setup, t.linear_setups, t.linear_solve, t.linear_solves,
       t.linear_solves ? static_cast<double>(t.linear_iterations) / static_cast<double>(t.linear_solves) : 0.0,
       s.linear_solver, t.contact_search, s.output_seconds);
+  if (t.linear_fallbacks > 0)
+    fmt::print("linear solver: {} GMRES solves stagnated and were redone by the LU\n", t.linear_fallbacks);
   if (s.cutbacks > 0)
     fmt::print("cutbacks: {} failed steps retried with a halved time step (smallest {:.3e} s), see steps.csv\n",
                s.cutbacks, s.min_dt);

@@ -106,7 +106,7 @@ struct SolverSpec {
   std::string method = "krylov";           ///< krylov | direct
   std::string preconditioner = "auto";     ///< auto | ilu | gamg (krylov)
   int gamg_from = 200000;                  ///< auto: GAMG from this many unknowns on
-  int max_linear_iterations = 400;
+  int max_linear_iterations = 200;
   double forcing_max = 0.1;                ///< Eisenstat–Walker's largest relative linear tolerance
   bool modified_newton = false;            ///< keep the tangent while convergence is fast
   std::string petsc_options;

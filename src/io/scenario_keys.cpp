@@ -127,10 +127,10 @@ SectionSpec solver_section() {
                .doc = "preconditioner = \"auto\": unknowns from which gamg is used"},
               {.name = "max_linear_iterations",
                .type = KeyType::integer,
-               .default_value = "400",
+               .default_value = "200",
                .min = at_least(1),
-               .doc = "GMRES iterations per solve; a solve that reaches them returns its best iterate and Newton "
-                      "judges the residual"},
+               .doc = "GMRES iterations per solve; a solve that reaches them near its tolerance returns its best "
+                      "iterate (Newton judges the residual), one that stagnates far from it is redone by the LU"},
               {.name = "forcing_max",
                .type = KeyType::number,
                .default_value = "0.1",

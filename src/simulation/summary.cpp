@@ -47,6 +47,7 @@ Json figures(const RunSummary& s, int unknowns) {
               {"linear_setups", t.linear_setups},
               {"linear_solves", t.linear_solves},
               {"linear_iterations", t.linear_iterations},
+              {"linear_fallbacks", t.linear_fallbacks},
               {"symbolic_analyses", t.analyses},
               {"cutbacks", s.cutbacks},
               {"min_dt", s.min_dt},

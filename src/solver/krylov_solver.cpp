@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "solver/direct_solver.hpp"
 #include "solver/petsc_session.hpp"
 
 namespace conserve::solver {
@@ -24,6 +25,9 @@ struct KrylovSolver::Petsc {
   std::vector<PetscInt> row_start, column;  ///< the same pattern as CSR
   std::vector<int> from_csc;        ///< CSR position → CSC position
   Eigen::MatrixXd X;                ///< reference coordinates (GAMG's rigid-body modes)
+  const SparseMatrix* last = nullptr;  ///< the matrix of set_operator (valid until the next)
+  std::unique_ptr<DirectSolver> direct;  ///< the fallback, made on first use
+  bool direct_ready = false;             ///< the fallback holds the present matrix
 
   ~Petsc() { destroy(); }
 
@@ -155,6 +159,8 @@ void KrylovSolver::set_operator(const SparseMatrix& M) {
   ScopedTimer timer(clock(&Timings::linear_setup));
   count(&Timings::linear_setups);
   Petsc& p = *petsc_;
+  p.last = &M;
+  p.direct_ready = false;
   if (!p.A || !p.same_pattern(M)) {
     // A new pattern needs a new ordering and symbolic factorization (or a
     // new GAMG hierarchy): the PC keeps them while the matrix is the same.
@@ -170,32 +176,42 @@ void KrylovSolver::set_operator(const SparseMatrix& M) {
 }
 
 LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out, double rtol) {
-  ScopedTimer timer(clock(&Timings::linear_solve));
   Petsc& p = *petsc_;
   if (!p.A) throw Error("KrylovSolver::solve before set_operator");
-  PetscScalar* v = nullptr;
-  check(VecGetArrayWrite(p.b, &v), "VecGetArrayWrite");
-  std::copy(rhs.data(), rhs.data() + rhs.size(), v);
-  check(VecRestoreArrayWrite(p.b, &v), "VecRestoreArrayWrite");
-  // GMRES cannot go below round-off; a relative tolerance above 1 would
-  // accept x = 0.
-  const double tolerance = std::clamp(rtol, 1e-14, 0.5);
-  check(KSPSetTolerances(p.ksp, tolerance, 0.0, 1e30, p.settings.max_iterations), "KSPSetTolerances");
-  check(KSPSolve(p.ksp, p.b, p.x), "the GMRES solve");
+  if (p.direct_ready) return fallback(rhs, out);
   PetscInt iterations = 0;
   PetscReal residual = 0.0;
   KSPConvergedReason reason;
-  check(KSPGetResidualNorm(p.ksp, &residual), "KSPGetResidualNorm");
-  check(KSPGetIterationNumber(p.ksp, &iterations), "KSPGetIterationNumber");
-  check(KSPGetConvergedReason(p.ksp, &reason), "KSPGetConvergedReason");
-  if (timings_) ++timings_->linear_solves, timings_->linear_iterations += iterations;
-  // Running out of iterations, or a breakdown (GMRES asked for a tolerance
-  // below the round-off of its right-hand side), leaves the best iterate,
-  // which Newton judges by the nonlinear residual; NaN, or a failed
-  // preconditioner, leaves nothing usable.
-  if (reason == KSP_DIVERGED_NANORINF || reason == KSP_DIVERGED_PC_FAILED || reason == KSP_DIVERGED_NULL ||
-      reason == KSP_DIVERGED_INDEFINITE_MAT)
-    throw SolverError(fmt::format("GMRES failed after {} iterations: {}", iterations, KSPConvergedReasons[reason]));
+  // GMRES cannot go below round-off; a relative tolerance above 1 would
+  // accept x = 0.
+  const double tolerance = std::clamp(rtol, 1e-14, 0.5);
+  {
+    ScopedTimer timer(clock(&Timings::linear_solve));
+    PetscScalar* v = nullptr;
+    check(VecGetArrayWrite(p.b, &v), "VecGetArrayWrite");
+    std::copy(rhs.data(), rhs.data() + rhs.size(), v);
+    check(VecRestoreArrayWrite(p.b, &v), "VecRestoreArrayWrite");
+    check(KSPSetTolerances(p.ksp, tolerance, 0.0, 1e30, p.settings.max_iterations), "KSPSetTolerances");
+    check(KSPSolve(p.ksp, p.b, p.x), "the GMRES solve");
+    check(KSPGetIterationNumber(p.ksp, &iterations), "KSPGetIterationNumber");
+    check(KSPGetResidualNorm(p.ksp, &residual), "KSPGetResidualNorm");
+    check(KSPGetConvergedReason(p.ksp, &reason), "KSPGetConvergedReason");
+    if (timings_) ++timings_->linear_solves, timings_->linear_iterations += iterations;
+    // NaN, or a failed preconditioner, leaves nothing usable.
+    if (reason == KSP_DIVERGED_NANORINF || reason == KSP_DIVERGED_PC_FAILED || reason == KSP_DIVERGED_NULL ||
+        reason == KSP_DIVERGED_INDEFINITE_MAT)
+      throw SolverError(fmt::format("GMRES failed after {} iterations: {}", iterations, KSPConvergedReasons[reason]));
+  }
+  // Running out of iterations or a breakdown near the tolerance (asked for
+  // below the round-off of the right-hand side) leaves a usable iterate,
+  // which Newton judges by the nonlinear residual. GMRES that stagnates
+  // far from it (an ill-conditioned matrix its preconditioner cannot tame,
+  // e.g. quasi-rigid bodies in contact) hands this matrix to the LU:
+  // robustness first, counted as a fallback.
+  if (reason < 0 && residual > 2.0 * tolerance * rhs.norm() && residual > 1e-6 * rhs.norm()) {
+    if (timings_) ++timings_->linear_fallbacks;
+    return fallback(rhs, out);
+  }
   const PetscScalar* r = nullptr;
   out.resize(rhs.size());
   check(VecGetArrayRead(p.x, &r), "VecGetArrayRead");
@@ -203,6 +219,19 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
   check(VecRestoreArrayRead(p.x, &r), "VecRestoreArrayRead");
   if (!out.allFinite()) throw SolverError("GMRES gave a non-finite increment");
   return {static_cast<int>(iterations), static_cast<double>(residual)};
+}
+
+LinearSolve KrylovSolver::fallback(const Eigen::VectorXd& rhs, Eigen::VectorXd& out) {
+  Petsc& p = *petsc_;
+  if (!p.direct) {
+    p.direct = std::make_unique<DirectSolver>();
+    p.direct->set_timings(timings_);
+  }
+  if (!p.direct_ready) {
+    p.direct->set_operator(*p.last);
+    p.direct_ready = true;
+  }
+  return p.direct->solve(rhs, out, 0.0);
 }
 
 }  // namespace conserve::solver

@@ -7,6 +7,8 @@
 ///   GAMG (smoothed aggregation) with the rigid-body modes of the nodes as
 ///     near-null space; its interpolation is kept while the pattern stays
 ///     and only the coarse operators are recomputed.
+/// A solve whose GMRES stagnates far from its tolerance falls back to the
+/// UMFPACK LU for that matrix (Timings::linear_fallbacks counts them).
 /// PETSc objects are hidden here (pimpl): nothing above this layer sees a
 /// PETSc header. One process for now (PETSC_COMM_SELF).
 #include <memory>
@@ -31,6 +33,7 @@ class KrylovSolver final : public LinearSolver {
   [[nodiscard]] std::string name() const override;
 
  private:
+  LinearSolve fallback(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   struct Petsc;
   std::unique_ptr<Petsc> petsc_;
 };

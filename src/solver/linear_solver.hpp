@@ -26,7 +26,7 @@ struct LinearSolverSettings {
   int gamg_from = 200000;
   /// GMRES iterations per solve; a solve that reaches them returns its
   /// best iterate and Newton judges the nonlinear residual.
-  int max_iterations = 400;
+  int max_iterations = 200;
   /// Extra PETSc options ("-ksp_monitor -pc_gamg_threshold 0.02"), applied
   /// process-wide before the solver reads its options.
   std::string petsc_options;

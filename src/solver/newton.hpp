@@ -59,8 +59,7 @@ struct NewtonSettings {
   /// from the previous solve as a start), an iteration whose exact solve
   /// would reach the tolerance solves to it: the iteration ends in one more
   /// step instead of two (a nearly linear step takes one). Never tighter
-  /// than a quarter of the nonlinear tolerance (or the round-off floor)
-  /// requires. Convergence is judged on the nonlinear residual alone.
+  /// than 1/50 of the nonlinear tolerance requires. Convergence is judged on the nonlinear residual alone.
   double forcing_max = 0.1;
   /// Backtracking line search: an increment that does not lower |r| is
   /// halved, up to line_search_halvings times, keeping the fraction with

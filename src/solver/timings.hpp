@@ -15,6 +15,7 @@ struct Timings {
   int analyses = 0;             ///< symbolic analyses of the direct solver (pattern changes)
   long long linear_iterations = 0;  ///< Krylov iterations (direct: one per solve)
   long long linear_solves = 0;
+  int linear_fallbacks = 0;     ///< Krylov solves that stagnated and were redone by the LU
 };
 
 /// Adds the lifetime of the scope to a counter.
