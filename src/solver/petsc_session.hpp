@@ -1,6 +1,6 @@
 #pragma once
-/// PETSc (and through it MPI) initialised once per process, on first use,
-/// and finalised at exit. PETSc's own signal handler is switched off, and
+/// MPI and PETSc initialised once per process, on first use; PETSc is
+/// finalised at exit, MPI is left to the process's end. PETSc's own signal handler is switched off, and
 /// its errors come back as return codes that check() turns into
 /// SolverError with PETSc's message.
 namespace conserve::solver::petsc {
