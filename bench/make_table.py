@@ -110,14 +110,13 @@ def main():
              "loop (summary.json `wall_seconds`); **setup** = the rest of the process time (scenario, Gmsh "
              "mesh generation, model, pattern); **Newton** = iterations per step, mean / max; **s / it** = "
              "run time / total Newton iterations; then the split of the run time (summary.json `seconds`) "
-             "into assembly, contact elimination (`elim`), numeric + symbolic factorization (`fact`), "
-             "triangular solves, contact search and output (VTU, CSV); **fact. n/s** = numeric "
-             "factorizations (one per Newton iteration, active-set passes included, unless `[newton] "
-             "reuse_factorization` keeps one over several) / symbolic analyses (redone when the sparsity "
-             "pattern changes with the contact set); **s / fact** = factorization time / numeric factorizations; "
+             "into assembly, contact elimination (`elim`), linear solver set-up (`setup`: preconditioner or "
+             "factorization), linear solves, contact search and output (VTU, CSV); **solver** = the linear "
+             "solver (summary.json `linear_solver`); **lin. it / Newton it** = Krylov iterations per Newton "
+             "iteration (1 for the LU); "
              "**peak** = maximum resident memory (GNU time); **E drift** = max relative energy drift.\n")
     header = ("| run | unknowns | steps | run [s] | setup [s] | Newton mean / max | s / it | assembly | elim | "
-              "fact | solve | contact search | output | fact. n/s | s / fact | peak [MB] | E drift |")
+              "setup | solve | contact search | output | solver | lin. it / Newton it | peak [MB] | E drift |")
     for kind, title in (("paper", "## The paper's examples (section 6)"),
                         ("sweep", "## Mesh-size sweep: the section 6.3 ball, free flight from the start")):
         sel = [r for r in rows if r["kind"] == kind]
@@ -129,11 +128,10 @@ def main():
         if kind == "sweep":
             L.append("`examples/ball/ball_on_plane.toml` with the ball's mesh `size` changed for the target "
                      "number of unknowns and VTU output off; only the first steps, before the ball reaches the "
-                     "plane, so there is no contact: this measures the conserving elastodynamics and the sparse "
-                     "LU (UMFPACK, METIS ordering), which dominates. Newton settings are the example's (with "
-                     "`reuse_factorization = true` one factorization may serve several iterations and steps: "
-                     "compare sizes by s / fact and peak memory)."
-                     "\n")
+                     "plane, so there is no contact: this measures the conserving elastodynamics and the default "
+                     "linear solver (GMRES with ILU(0) below 200k unknowns, GAMG above). Compare sizes by s / it "
+                     "(wall time per Newton iteration) and peak memory; the growth exponents are fitted below the "
+                     "table.\n")
         L.append(header)
         L.append("|" + "|".join(["---"] * (header.count("|") - 1)) + "|")
         for r in sel:
@@ -160,12 +158,27 @@ def main():
                 fmt(s["wall_seconds"]), fmt(setup),
                 f"{s['mean_newton_iterations']:.2f} / {s['max_newton_iterations']}",
                 fmt(s["wall_seconds"] / its if its else None),
-                fmt(sec["assembly"]), fmt(sec["elimination"]), fmt(sec["factorization"]), fmt(sec["solve"]),
-                fmt(sec["contact_search"]), fmt(sec["output"]),
-                f"{s['factorizations']} / {s['symbolic_analyses']}",
-                fmt(sec["factorization"] / s["factorizations"] if s["factorizations"] else None),
+                fmt(sec["assembly"]), fmt(sec["elimination"]), fmt(sec["linear_setup"]), fmt(sec["linear_solve"]),
+                fmt(sec["contact_search"]), fmt(sec["output"]), s.get("linear_solver", "—"),
+                fmt(s["linear_iterations"] / its if its else None),
                 fmt(r.get("peak_mb")), f"{s['energy_drift']:.1e}",
             ]) + " |")
+        if kind == "sweep":
+            pts = [(r["s"]["unknowns"], r["s"]["wall_seconds"] / (r["s"]["mean_newton_iterations"] * r["s"]["steps"]),
+                    r.get("peak_mb")) for r in sel if r["s"] is not None and r["rc"] == 0
+                   and r["s"]["mean_newton_iterations"] > 0]
+            if len(pts) >= 2:
+                import math
+                def slope(xs, ys):
+                    lx = [math.log(x) for x in xs]; ly = [math.log(y) for y in ys]
+                    mx = sum(lx) / len(lx); my = sum(ly) / len(ly)
+                    return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sum((a - mx) ** 2 for a in lx)
+                n = [p[0] for p in pts]
+                L.append("")
+                L.append(f"Growth exponents (least squares on log–log, {len(pts)} sizes {min(n)}–{max(n)}): "
+                         f"time per Newton iteration ∝ n^{slope(n, [p[1] for p in pts]):.2f}" +
+                         (f", peak memory ∝ n^{slope(n, [p[2] for p in pts]):.2f}"
+                          if all(p[2] for p in pts) else "") + ".")
         L.append("")
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text("\n".join(L))
