@@ -1,12 +1,53 @@
 #include "assembly/assembler.hpp"
 
+#include <atomic>
 #include <limits>
+#include <thread>
+#include <vector>
+
+#include "assembly/threads.hpp"
 
 namespace conserve::assembly {
+namespace {
+
+/// Calls body(cell) for every cell, chunk by chunk in the colouring's
+/// order. Threads take the next chunk as they come free, and start it once
+/// the earlier chunks it shares nodes with are done: so body may add into
+/// its nodes' entries unguarded, each entry gets its terms in the
+/// colouring's order, and a thread the system holds up stalls only the
+/// chunks that wait for its own (no barrier between colours).
+template <class Body>
+void for_each_coloured(const CellColouring& colouring, const Body& body) {
+  const int num_chunks = static_cast<int>(colouring.chunks.size());
+  std::vector<std::atomic<bool>> done(num_chunks);  // false
+  std::atomic<int> next{0};
+#pragma omp parallel if (colouring.num_cells >= kMinParallelCells)
+  for (int j = next++; j < num_chunks; j = next++) {
+    for (int i = colouring.wait_start[j]; i < colouring.wait_start[j + 1]; ++i)
+      while (!done[colouring.waits_for[i]].load(std::memory_order_acquire)) std::this_thread::yield();
+    const int chunk = colouring.chunks[j];
+    for (int c = colouring.first_cell(chunk); c < colouring.end_cell(chunk); ++c) body(c);
+    done[j].store(true, std::memory_order_release);
+  }
+}
+
+/// value(cell) for every cell, computed in parallel.
+template <class Value>
+std::vector<double> per_cell(int num_cells, const Value& value) {
+  std::vector<double> v(num_cells);
+#pragma omp parallel for schedule(dynamic, 256) if (num_cells >= kMinParallelCells)
+  for (int c = 0; c < num_cells; ++c) v[c] = value(c);
+  return v;
+}
+
+}  // namespace
 
 template <int D>
 Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
-    : model_(model), pattern_(model.num_nodes(), model.cells), mass_(pattern_.make_matrix()) {
+    : model_(model),
+      pattern_(model.num_nodes(), model.cells),
+      colouring_(colour_cells(model.num_nodes(), model.cells)),
+      mass_(pattern_.make_matrix()) {
   double* values = mass_.valuePtr();
   for (int c = 0; c < model.num_cells(); ++c) {
     const double density = model.bodies[model.cell_body[c]].density;
@@ -43,13 +84,13 @@ void Assembler<D>::internal_force(const Eigen::VectorXd& u_n, const Eigen::Vecto
                                   Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
   f.setZero(model_.num_dofs());
   if (magnitude) magnitude->setZero(model_.num_dofs());
-  for (int c = 0; c < model_.num_cells(); ++c) {
+  for_each_coloured(colouring_, [&](int c) {
     const fem::StepPositions<D> x{cell_positions(c, u_n), cell_positions(c, u_np1)};
     const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], lame(c), x, scheme);
     for (int a = 0; a <= D; ++a) f.segment<D>(model_.cells(a, c) * D) += fe.col(a);
     if (magnitude)
       for (int a = 0; a <= D; ++a) magnitude->segment<D>(model_.cells(a, c) * D) += fe.col(a).cwiseAbs();
-  }
+  });
 }
 
 template <int D>
@@ -58,35 +99,35 @@ void Assembler<D>::internal_force_tangent(const Eigen::VectorXd& u_n, const Eige
   f.setZero(model_.num_dofs());
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   double* values = K.valuePtr();
-  fem::NodeMatrix<D> fe;
-  fem::ElementMatrix<D> Ke;
-  for (int c = 0; c < model_.num_cells(); ++c) {
+  for_each_coloured(colouring_, [&](int c) {
     const fem::StepPositions<D> x{cell_positions(c, u_n), cell_positions(c, u_np1)};
+    fem::NodeMatrix<D> fe;
+    fem::ElementMatrix<D> Ke;
     fem::internal_force_tangent<D>(model_.geometry[c], lame(c), x, scheme, fe, Ke);
     for (int a = 0; a <= D; ++a) f.segment<D>(model_.cells(a, c) * D) += fe.col(a);
-    for (int b = 0; b <= D; ++b)
-      for (int k = 0; k < D; ++k)
-        for (int a = 0; a <= D; ++a)
-          for (int i = 0; i < D; ++i) values[pattern_.position(c, a, b, i, k)] += Ke(a * D + i, b * D + k);
-  }
+    pattern_.add_cell_matrix(c, Ke, values);
+  });
 }
 
 template <int D>
 Orientation Assembler<D>::min_det_F(const Eigen::VectorXd& u) const {
+  const std::vector<double> det = per_cell(model_.num_cells(), [&](int c) {
+    return fem::deformation_gradient<D>(cell_positions(c, u), model_.geometry[c]).determinant();
+  });
   Orientation o{std::numeric_limits<double>::infinity(), -1};
-  for (int c = 0; c < model_.num_cells(); ++c) {
-    const double det = fem::deformation_gradient<D>(cell_positions(c, u), model_.geometry[c]).determinant();
-    if (det < o.det_F) o = {det, c};
-  }
+  for (int c = 0; c < model_.num_cells(); ++c)
+    if (det[c] < o.det_F) o = {det[c], c};
   return o;
 }
 
 template <int D>
 double Assembler<D>::strain_energy(const Eigen::VectorXd& u) const {
-  double W = 0.0;
-  for (int c = 0; c < model_.num_cells(); ++c)
-    W += fem::strain_energy<D>(model_.geometry[c], lame(c), cell_positions(c, u));
-  return W;
+  const std::vector<double> W = per_cell(model_.num_cells(), [&](int c) {
+    return fem::strain_energy<D>(model_.geometry[c], lame(c), cell_positions(c, u));
+  });
+  double sum = 0.0;
+  for (const double w : W) sum += w;  // in cell order, as a serial loop
+  return sum;
 }
 
 template class Assembler<2>;

@@ -1,8 +1,12 @@
 #pragma once
 /// Global assembly: the only code that maps cells to global dofs. Vectors
 /// are flat and node-major (dof A·D + i), displacements relative to the
-/// model's reference coordinates.
+/// model's reference coordinates. Loops over cells run on OpenMP threads
+/// (assembly/threads.hpp) and give the same bits for any number of them:
+/// sums into global entries follow the colouring's order
+/// (assembly/colouring.hpp), sums and minima over cells go in cell order.
 #include "assembly/block_pattern.hpp"
+#include "assembly/colouring.hpp"
 #include "fem/element.hpp"
 #include "model/model.hpp"
 
@@ -22,6 +26,8 @@ class Assembler {
 
   [[nodiscard]] const model::Model<D>& model() const { return model_; }
   [[nodiscard]] const BlockPattern<D>& pattern() const { return pattern_; }
+  /// The cell order the global sums follow.
+  [[nodiscard]] const CellColouring& colouring() const { return colouring_; }
   /// M_AB ⊗ 1, with the pattern of the tangent [kg].
   [[nodiscard]] const SparseMatrix& mass() const { return mass_; }
   /// Constant external force from gravity, f_A = Σ_B M_AB g [N].
@@ -42,7 +48,8 @@ class Assembler {
   void internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                               Eigen::VectorXd& f, SparseMatrix& K) const;
 
-  /// The smallest det F over the cells at displacements u, and its cell.
+  /// The smallest det F over the cells at displacements u, and its cell
+  /// (the lowest such cell on ties).
   [[nodiscard]] Orientation min_det_F(const Eigen::VectorXd& u) const;
 
   /// Stored energy W(u) = Σ_cells V ρ0Ψ [J].
@@ -55,6 +62,7 @@ class Assembler {
   [[nodiscard]] const material::Lame& lame(int cell) const { return model_.bodies[model_.cell_body[cell]].lame; }
   const model::Model<D>& model_;
   BlockPattern<D> pattern_;
+  CellColouring colouring_;
   SparseMatrix mass_;
   Eigen::VectorXd gravity_force_;
   Eigen::VectorXd stiffness_scale_;

@@ -3,6 +3,7 @@
 /// with every node it shares a cell with), built once, with the positions
 /// each cell writes to, so that assembly is a direct store into the values.
 #include <Eigen/Core>
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -25,6 +26,25 @@ class BlockPattern {
   [[nodiscard]] int position(int cell, int a, int b, int i, int k) const {
     const int B = cells_(b, cell);
     return outer_[B * D + k] + rank_[(cell * (D + 1) + b) * (D + 1) + a] * D + i;
+  }
+
+  /// Adds a cell's matrix Ke (row a·D+i, column b·D+k for local nodes a, b)
+  /// into `values`, the values of a matrix with this pattern: the same
+  /// entries as position(), with the block starts found once per cell.
+  void add_cell_matrix(int cell, const Eigen::Matrix<double, D*(D + 1), D*(D + 1)>& Ke, double* values) const {
+    for (int b = 0; b <= D; ++b) {
+      const int B = cells_(b, cell);
+      const int* rank = &rank_[static_cast<std::size_t>(cell * (D + 1) + b) * (D + 1)];
+      const int column = outer_[static_cast<std::size_t>(B) * D];
+      const int height = outer_[B * D + 1] - column;  // the columns of node B are equally long
+      double* block[D + 1];
+      for (int a = 0; a <= D; ++a) block[a] = values + (column + rank[a] * D);
+      for (int k = 0; k < D; ++k) {
+        const double* ke = Ke.data() + (b * D + k) * Ke.rows();
+        for (int a = 0; a <= D; ++a)
+          for (int i = 0; i < D; ++i) block[a][k * height + i] += ke[a * D + i];
+      }
+    }
   }
 
   /// Index of entry (row dof r, column dof c), or −1 if not in the pattern.

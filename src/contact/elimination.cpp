@@ -13,11 +13,11 @@
 namespace conserve::contact {
 namespace {
 
-/// A row of a map: reduced-unknown index → coefficient.
-using Row = std::map<int, double>;
-
-/// Composes every slave dof's row of a map from the constraints' local
-/// coefficients by substitution (chains), refusing cycles.
+/// Composes every slave's rows of a map, in node blocks, from the
+/// constraints' local coefficients by substitution (chains), refusing
+/// cycles. Structural: every node the coefficients name is kept, with its
+/// block even when that is zero, so that the rows' nodes (and the reduced
+/// tangent's pattern) depend on the constraints' nodes only.
 template <int D>
 class RowBuilder {
  public:
@@ -37,7 +37,7 @@ class RowBuilder {
   }
 
   /// The D rows of constraint c's slave.
-  const std::array<Row, D>& rows(int c) {
+  const BlockRow<D>& rows(int c) {
     if (state_[c] == 2) return rows_[c];
     if (state_[c] == 1)
       throw SolverError(fmt::format(
@@ -47,15 +47,18 @@ class RowBuilder {
     state_[c] = 1;
     const Constraint<D>& k = constraints_[c];
     const Coefficients& l = *local_[c];
-    std::array<Row, D> out;
+    std::map<int, Mat<D>> out;
     for (std::size_t a = 0; a < l.nodes.size(); ++a) add_node(out, l.nodes[a], l.master.middleCols(a * D, D));
     if (k.kind == Kind::frictionless)  // (49): slip unknowns in the slave's first D−1 slots
-      for (int j = 0; j < D - 1; ++j)
-        for (int i = 0; i < D; ++i) out[i][k.slave * D + j] += l.slip(i, j);
-    rows_[c] = std::move(out);
+      block(out, k.slave).template leftCols<D - 1>() += l.slip;
+    BlockRow<D>& row = rows_[c];
+    for (const auto& [node, b] : out) {
+      row.nodes.push_back(node);
+      row.blocks.push_back(b);
+    }
     state_[c] = 2;
     order_.push_back(c);
-    return rows_[c];
+    return row;
   }
 
   /// Constraints in the order their rows were completed: every constraint
@@ -63,26 +66,25 @@ class RowBuilder {
   [[nodiscard]] const std::vector<int>& order() const { return order_; }
 
  private:
+  static Mat<D>& block(std::map<int, Mat<D>>& out, int node) {
+    return out.try_emplace(node, Mat<D>::Zero()).first->second;
+  }
+
   /// Adds C δx_node (C: D × D) to the rows.
-  void add_node(std::array<Row, D>& out, int node, const Eigen::MatrixXd& C) {
+  void add_node(std::map<int, Mat<D>>& out, int node, const Mat<D>& C) {
     if (of_node_[node] < 0) {
-      for (int i = 0; i < D; ++i)
-        for (int k = 0; k < D; ++k)
-          if (C(i, k) != 0.0) out[i][node * D + k] += C(i, k);
+      block(out, node) += C;
       return;
     }
-    const std::array<Row, D>& sub = rows(of_node_[node]);
-    for (int i = 0; i < D; ++i)
-      for (int k = 0; k < D; ++k)
-        if (C(i, k) != 0.0)
-          for (const auto& [q, c] : sub[k]) out[i][q] += C(i, k) * c;
+    const BlockRow<D>& sub = rows(of_node_[node]);
+    for (std::size_t b = 0; b < sub.nodes.size(); ++b) block(out, sub.nodes[b]) += C * sub.blocks[b];
   }
 
   const std::vector<Constraint<D>>& constraints_;
   std::vector<const Coefficients*> local_;
   std::vector<int> of_node_;
   std::vector<char> state_;  ///< 0 new, 1 being expanded, 2 done
-  std::vector<std::array<Row, D>> rows_;
+  std::vector<BlockRow<D>> rows_;
   std::vector<int> order_;
 };
 
@@ -112,18 +114,20 @@ Eigen::Matrix<AD<N>, R, C> variables(const Eigen::Matrix<double, R, C>& x) {
 
 template <int D>
 Elimination<D>::Elimination(int num_nodes, const std::vector<Constraint<D>>& constraints)
-    : constraints_(constraints), num_nodes_(num_nodes) {
+    : constraints_(constraints), num_nodes_(num_nodes), reduction_(std::make_shared<TangentReduction<D>>()) {
   build(nullptr);
 }
 
 template <int D>
 Elimination<D>::Elimination(const Positions<D>& X, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
-                            const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs)
+                            const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
+                            std::shared_ptr<TangentReduction<D>> reduction)
     : constraints_(constraints),
       pairs_(&pairs),
       X_(X),
       u_n_(u_n),
       num_nodes_(static_cast<int>(X.cols())),
+      reduction_(reduction ? std::move(reduction) : std::make_shared<TangentReduction<D>>()),
       switches_(constraints.size(), 0) {
   build(&u);
 }
@@ -172,7 +176,6 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
 
 template <int D>
 void Elimination<D>::build(const Eigen::VectorXd* u) {
-  const int n = num_nodes_ * D;
   std::vector<Local> locals;
   locals.reserve(constraints_.size());
   for (const Constraint<D>& k : constraints_) {
@@ -193,125 +196,138 @@ void Elimination<D>::build(const Eigen::VectorXd* u) {
   test_.clear();
   for (const Local& l : locals) test_.push_back(l.test);
   RowBuilder<D> trial_builder(num_nodes_, constraints_, trial), test_builder(num_nodes_, constraints_, test);
-  is_slave_.assign(num_nodes_, 0);
-  slave_row_of_.assign(n, -1);
-  trial_rows_.clear();
-  test_rows_.clear();
-  std::vector<Eigen::Triplet<double>> t, w, d;
-  for (std::size_t c = 0; c < constraints_.size(); ++c) {
-    const Constraint<D>& k = constraints_[c];
-    is_slave_[k.slave] = 1;
-    const auto& trial_rows = trial_builder.rows(static_cast<int>(c));
-    const auto& test_rows = test_builder.rows(static_cast<int>(c));
-    for (int i = 0; i < D; ++i) {
-      slave_row_of_[k.slave * D + i] = static_cast<int>(trial_rows_.size());
-      trial_rows_.emplace_back(k.slave * D + i, Terms(trial_rows[i].begin(), trial_rows[i].end()));
-      test_rows_.emplace_back(k.slave * D + i, Terms(test_rows[i].begin(), test_rows[i].end()));
-      for (const auto& [q, coeff] : trial_rows[i]) t.emplace_back(k.slave * D + i, q, coeff);
-      for (const auto& [q, coeff] : test_rows[i]) w.emplace_back(k.slave * D + i, q, coeff);
-    }
-    for (int j = (k.kind == Kind::frictionless ? D - 1 : 0); j < D; ++j)
-      d.emplace_back(k.slave * D + j, k.slave * D + j, 1.0);
+  const std::size_t count = constraints_.size();
+  slave_of_.assign(num_nodes_, -1);
+  slaves_.resize(count);
+  trial_rows_.resize(count);
+  test_rows_.resize(count);
+  for (std::size_t c = 0; c < count; ++c) {
+    slaves_[c] = constraints_[c].slave;
+    slave_of_[slaves_[c]] = static_cast<int>(c);
+    trial_rows_[c] = trial_builder.rows(static_cast<int>(c));
+    test_rows_[c] = test_builder.rows(static_cast<int>(c));
   }
   order_ = test_builder.order();
-  for (int node = 0; node < num_nodes_; ++node)
-    if (!is_slave_[node])
-      for (int i = 0; i < D; ++i) {
-        t.emplace_back(node * D + i, node * D + i, 1.0);
-        w.emplace_back(node * D + i, node * D + i, 1.0);
-      }
-  T_.resize(n, n);
-  T_.setFromTriplets(t.begin(), t.end());
-  W_.resize(n, n);
-  W_.setFromTriplets(w.begin(), w.end());
-  dummy_.resize(n, n);
-  dummy_.setFromTriplets(d.begin(), d.end());
 }
 
 template <int D>
-typename Elimination<D>::Terms Elimination<D>::terms(const Rows& rows, int node, int i) const {
-  if (!is_slave_[node]) return {{node * D + i, 1.0}};
-  return rows[slave_row_of_[node * D + i]].second;
+SparseMatrix Elimination<D>::assemble(const std::vector<BlockRow<D>>& rows) const {
+  const int n = num_nodes_ * D;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int node = 0; node < num_nodes_; ++node)
+    if (slave_of_[node] < 0)
+      for (int i = 0; i < D; ++i) t.emplace_back(node * D + i, node * D + i, 1.0);
+  for (std::size_t c = 0; c < rows.size(); ++c)
+    for (std::size_t b = 0; b < rows[c].nodes.size(); ++b)
+      for (int i = 0; i < D; ++i)
+        for (int k = 0; k < D; ++k)
+          if (rows[c].blocks[b](i, k) != 0.0)
+            t.emplace_back(slaves_[c] * D + i, rows[c].nodes[b] * D + k, rows[c].blocks[b](i, k));
+  SparseMatrix out(n, n);
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
 }
 
 template <int D>
 void Elimination<D>::reduce_residual(const Eigen::VectorXd& g, Eigen::VectorXd& r) const {
-  r = W_.transpose() * g;  // (41), (56)
+  std::vector<Vec<D>> g_s(slaves_.size());  // (41), (56): r = g + Σ_s W_sᵀ g_s − g_s
+  for (std::size_t c = 0; c < slaves_.size(); ++c) g_s[c] = g.template segment<D>(slaves_[c] * D);
+  r = g;
+  for (const int s : slaves_) r.template segment<D>(s * D).setZero();
+  for (std::size_t c = 0; c < slaves_.size(); ++c)
+    for (std::size_t b = 0; b < test_rows_[c].nodes.size(); ++b)
+      r.template segment<D>(test_rows_[c].nodes[b] * D) += test_rows_[c].blocks[b].transpose() * g_s[c];
+}
+
+template <int D>
+void Elimination<D>::add_variation_block(int c, int out, bool slip, int in, const Mat<D>& G, SparseMatrix& K_r) const {
+  if ((G.array() == 0.0).all()) return;
+  static const Mat<D> identity = Mat<D>::Identity();
+  const int co = slip ? -1 : slave_of_[out], ci = slave_of_[in];
+  const int* w_nodes = co < 0 ? &out : test_rows_[co].nodes.data();
+  const Mat<D>* w_blocks = co < 0 ? &identity : test_rows_[co].blocks.data();
+  const std::size_t w_size = co < 0 ? 1 : test_rows_[co].nodes.size();
+  const int* t_nodes = ci < 0 ? &in : trial_rows_[ci].nodes.data();
+  const Mat<D>* t_blocks = ci < 0 ? &identity : trial_rows_[ci].blocks.data();
+  const std::size_t t_size = ci < 0 ? 1 : trial_rows_[ci].nodes.size();
+  for (std::size_t i = 0; i < w_size; ++i) {
+    const Mat<D> WG = w_blocks[i].transpose() * G;
+    for (std::size_t j = 0; j < t_size; ++j) reduction_->add(c, w_nodes[i], t_nodes[j], WG * t_blocks[j], K_r);
+  }
 }
 
 // V = (δW)ᵀ g: the derivative of the constraint's test coefficients
 // contracted with the slave's residual, by automatic differentiation of
 // the zero-work kernels with respect to the end positions of the
 // constraint's nodes, mapped to reduced unknowns through T (inputs) and
-// W (outputs).
+// W (outputs), node block by node block.
 template <int D>
-void Elimination<D>::add_variation(const Constraint<D>& k, const Vec<D>& g_s, const Eigen::VectorXd& u,
-                                   std::vector<Eigen::Triplet<double>>& v) const {
-  const Kernel in = kernel_input(k, u);
+void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const {
+  const Constraint<D>& k = constraints_[c];
+  const Kernel in = kernel_input(k, u_);
   if (k.kind == Kind::stick) {
-    constexpr int N = D * D;
+    constexpr int N = D * D;  // inputs and outputs: the facet's nodes
     const zero_work::Facet<D, double> xm = in.x.template rightCols<D>(), dxm = in.dx.template rightCols<D>();
     const auto A = zero_work::stick_test<D, AD<N>>(variables<N>(xm), variables<N>(dxm), in.xm_n, in.offset, k.xi,
                                                    k.gap);
     const Eigen::Matrix<AD<N>, N, 1> rho = A.transpose() * g_s.template cast<AD<N>>();
-    for (int o = 0; o < N; ++o)
-      for (const auto& [q1, c1] : terms(test_rows_, k.master[o / D], o % D))
-        for (int i = 0; i < N; ++i) {
-          const double dr = rho(o).derivatives()(i);
-          if (dr == 0.0) continue;
-          for (const auto& [q2, c2] : terms(trial_rows_, k.master[i / D], i % D)) v.emplace_back(q1, q2, c1 * dr * c2);
-        }
+    Eigen::Matrix<double, N, N> G;
+    for (int o = 0; o < N; ++o) G.row(o) = rho(o).derivatives().transpose();
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b)
+        add_variation_block(c, k.master[a], false, k.master[b], G.template block<D, D>(a * D, b * D), K_r);
     return;
   }
-  constexpr int N = D * (D + 1);
+  constexpr int N = D * (D + 1);  // inputs: the slave, then the facet's nodes
   const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx));
   const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
-  auto node_of = [&](int i) { return i < D ? k.slave : k.master[i / D - 1]; };
-  for (int o = 0; o < D * D + D - 1; ++o) {
-    const AD<N> rho = o < D * D ? t.master.col(o).dot(gs) : t.slip.col(o - D * D).dot(gs);
-    const Terms out = o < D * D ? terms(test_rows_, k.master[o / D], o % D) : Terms{{k.slave * D + o - D * D, 1.0}};
-    for (const auto& [q1, c1] : out)
-      for (int i = 0; i < N; ++i) {
-        const double dr = rho.derivatives()(i);
-        if (dr == 0.0) continue;
-        for (const auto& [q2, c2] : terms(trial_rows_, node_of(i), i % D)) v.emplace_back(q1, q2, c1 * dr * c2);
-      }
-  }
+  Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();  // outputs: the slips (row D−1 zero), the facet
+  for (int j = 0; j < D - 1; ++j) G.row(j) = t.slip.col(j).dot(gs).derivatives().transpose();
+  for (int o = 0; o < D * D; ++o) G.row(D + o) = t.master.col(o).dot(gs).derivatives().transpose();
+  auto node = [&](int a) { return a == 0 ? k.slave : k.master[a - 1]; };
+  for (int a = 0; a <= D; ++a)
+    for (int b = 0; b <= D; ++b)
+      add_variation_block(c, node(a), a == 0, node(b), G.template block<D, D>(a * D, b * D), K_r);
 }
 
 template <int D>
-void Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const {
-  std::vector<Eigen::Triplet<double>> v;
-  for (int k = 0; k < dummy_.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(dummy_, k); it; ++it) {
-      const int s = it.row() / D;  // (44), (59): β = tr(K_ss)/D
-      double trace = 0.0;
-      for (int i = 0; i < D; ++i) trace += K.coeff(s * D + i, s * D + i);
-      v.emplace_back(it.row(), it.col(), trace / D);
-    }
-  if (pairs_ && u_.size() == g.size()) {
-    // The residual each slave passes on to its masters' rows: its own plus
-    // what chained slaves passed on to it (a chain's slave is a master node
-    // of another constraint), accumulated from the outer end of the chains.
-    Eigen::VectorXd passed = g;
-    for (auto c = order_.rbegin(); c != order_.rend(); ++c) {
-      const Constraint<D>& k = constraints_[*c];
-      const Coefficients& l = test_[*c];
-      const Vec<D> gs = passed.template segment<D>(k.slave * D);
-      for (std::size_t a = 0; a < l.nodes.size(); ++a)
-        if (is_slave_[l.nodes[a]])
-          passed.template segment<D>(l.nodes[a] * D) += l.master.middleCols(a * D, D).transpose() * gs;
-    }
-    for (const Constraint<D>& k : constraints_) add_variation(k, passed.template segment<D>(k.slave * D), u_, v);
+bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const {
+  const bool new_pattern = reduction_->reduce(K, slave_rows(), K_r);  // Wᵀ K T (43), (58)
+  // (44), (59): β = tr(K_ss)/D on the dummy slots.
+  for (std::size_t c = 0; c < constraints_.size(); ++c) {
+    const int s = slaves_[c];
+    double trace = 0.0;
+    for (int i = 0; i < D; ++i) trace += K.coeff(s * D + i, s * D + i);
+    Mat<D> beta = Mat<D>::Zero();
+    for (int j = (constraints_[c].kind == Kind::frictionless ? D - 1 : 0); j < D; ++j) beta(j, j) = trace / D;
+    reduction_->add(static_cast<int>(c), s, s, beta, K_r);
   }
-  SparseMatrix extra(K.rows(), K.cols());
-  extra.setFromTriplets(v.begin(), v.end());
-  K_r = SparseMatrix(W_.transpose() * K * T_) + extra;  // (43), (58)
+  if (!pairs_ || u_.size() != g.size()) return new_pattern;
+  // The residual each slave passes on to its masters' rows: its own plus
+  // what chained slaves passed on to it (a chain's slave is a master node
+  // of another constraint), accumulated from the outer end of the chains.
+  Eigen::VectorXd passed = g;
+  for (auto c = order_.rbegin(); c != order_.rend(); ++c) {
+    const Constraint<D>& k = constraints_[*c];
+    const Coefficients& l = test_[*c];
+    const Vec<D> gs = passed.template segment<D>(k.slave * D);
+    for (std::size_t a = 0; a < l.nodes.size(); ++a)
+      if (slave_of_[l.nodes[a]] >= 0)
+        passed.template segment<D>(l.nodes[a] * D) += l.master.middleCols(a * D, D).transpose() * gs;
+  }
+  for (std::size_t c = 0; c < constraints_.size(); ++c)
+    add_variation(static_cast<int>(c), passed.template segment<D>(slaves_[c] * D), K_r);
+  return new_pattern;
 }
 
 template <int D>
 void Elimination<D>::expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const {
-  du = T_ * q;
+  std::vector<Vec<D>> du_s(slaves_.size(), Vec<D>::Zero());  // Δu_s = Σ_b T_sb q_b
+  for (std::size_t c = 0; c < slaves_.size(); ++c)
+    for (std::size_t b = 0; b < trial_rows_[c].nodes.size(); ++b)
+      du_s[c] += trial_rows_[c].blocks[b] * q.template segment<D>(trial_rows_[c].nodes[b] * D);
+  du = q;
+  for (std::size_t c = 0; c < slaves_.size(); ++c) du.template segment<D>(slaves_[c] * D) = du_s[c];
 }
 
 // The frictionless slave back to its held gap γ on its facet, the facet
@@ -389,7 +405,15 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
 
 template <int D>
 void Elimination<D>::update(const Eigen::VectorXd& q, Eigen::VectorXd& u) {
-  u += T_ * q;  // (49), (60)
+  std::vector<Vec<D>> u_s(slaves_.size());  // (49), (60): u += T q, T the identity but on the slaves
+  for (std::size_t c = 0; c < slaves_.size(); ++c) {
+    Vec<D> du = Vec<D>::Zero();
+    for (std::size_t b = 0; b < trial_rows_[c].nodes.size(); ++b)
+      du += trial_rows_[c].blocks[b] * q.template segment<D>(trial_rows_[c].nodes[b] * D);
+    u_s[c] = u.template segment<D>(slaves_[c] * D) + du;
+  }
+  u += q;
+  for (std::size_t c = 0; c < slaves_.size(); ++c) u.template segment<D>(slaves_[c] * D) = u_s[c];
   enforce(u);
 }
 

@@ -19,9 +19,11 @@
 /// on the dummy diagonal (44)/(59). A slave whose master node is itself a
 /// slave (a chain) is expanded by substitution in both maps (V is then
 /// taken to first order through the chained rows); a cycle is refused.
+#include <memory>
 #include <vector>
 
 #include "contact/constraint.hpp"
+#include "contact/tangent_reduction.hpp"
 
 namespace conserve::contact {
 
@@ -34,22 +36,33 @@ class Elimination {
   Elimination(int num_nodes, const std::vector<Constraint<D>>& constraints);
 
   /// The elimination of one step from u_n (`pairs` must outlive it) at the
-  /// iterate u, which is not modified (call enforce()).
+  /// iterate u, which is not modified (call enforce()). `reduction`: the
+  /// reduced tangent's pattern and maps, shared with the eliminations of
+  /// earlier passes and steps so that they are rebuilt (and a solver's
+  /// analysis redone) only when the constraints' nodes change; a new one
+  /// if null.
   Elimination(const Positions<D>& X, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
-              const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs);
+              const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
+              std::shared_ptr<TangentReduction<D>> reduction = nullptr);
 
   [[nodiscard]] bool empty() const { return constraints_.empty(); }
   [[nodiscard]] const std::vector<Constraint<D>>& constraints() const { return constraints_; }
-  /// The trial map T, ndof × ndof.
-  [[nodiscard]] const SparseMatrix& map() const { return T_; }
-  /// The test map W, ndof × ndof.
-  [[nodiscard]] const SparseMatrix& test_map() const { return W_; }
+  /// The trial map T, ndof × ndof (assembled on request: the reduction
+  /// works with the slaves' rows).
+  [[nodiscard]] SparseMatrix map() const { return assemble(trial_rows_); }
+  /// The test map W, ndof × ndof (assembled on request).
+  [[nodiscard]] SparseMatrix test_map() const { return assemble(test_rows_); }
 
-  /// r = Wᵀ g (the dummy slots come out zero).
+  /// r = Wᵀ g (the dummy slots come out zero): g with the slave rows
+  /// passed on through W.
   void reduce_residual(const Eigen::VectorXd& g, Eigen::VectorXd& r) const;
   /// K_r = Wᵀ K T + V(g) + β on the dummy slots; g is the full residual at
-  /// the same iterate.
-  void reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const;
+  /// the same iterate. Wᵀ K T is K where T and W are the identity plus the
+  /// slave rows and columns mapped (contact/tangent_reduction.hpp); K_r's
+  /// pattern stays the same (explicit zeros kept) while K's pattern and
+  /// the constraints' nodes do not change. Returns whether K_r was given a
+  /// new pattern (K_r keeps its storage otherwise).
+  bool reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const;
   /// Δu = T q.
   void expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const;
   /// Applies the reduced increment: u += T q, then enforce(u).
@@ -59,6 +72,9 @@ class Elimination {
   /// the facets (end and mid-point) and ξ, n, τ of the constraints, and the
   /// maps.
   void enforce(Eigen::VectorXd& u);
+  /// Pattern builds of the reduced tangent so far (by all the eliminations
+  /// sharing its reduction).
+  [[nodiscard]] int pattern_builds() const { return reduction_->builds(); }
 
   /// One constraint's coefficients over `nodes` (master nodes, global):
   /// `master` is D × D·nodes.size() (column a·D + i for node nodes[a],
@@ -73,8 +89,6 @@ class Elimination {
   struct Local {
     Coefficients trial, test;
   };
-  using Terms = std::vector<std::pair<int, double>>;
-  using Rows = std::vector<std::pair<int, Terms>>;  ///< per slave dof: (row, [(reduced unknown, coefficient)])
 
   /// A constraint's nodes (slave, facet nodes) for the zero-work kernels:
   /// end positions, displacements over the step (from displacement
@@ -89,11 +103,13 @@ class Elimination {
   void build(const Eigen::VectorXd* u);
   [[nodiscard]] Local local(const Constraint<D>& k, const Eigen::VectorXd& u) const;
   void place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const;
-  /// Reduced unknowns (with coefficients) behind dof i of `node` through
-  /// the given composed rows (the identity for a node that is no slave).
-  [[nodiscard]] Terms terms(const Rows& rows, int node, int i) const;
-  void add_variation(const Constraint<D>& k, const Vec<D>& g_s, const Eigen::VectorXd& u,
-                     std::vector<Eigen::Triplet<double>>& v) const;
+  [[nodiscard]] SparseMatrix assemble(const std::vector<BlockRow<D>>& rows) const;
+  [[nodiscard]] SlaveRows<D> slave_rows() const { return {slave_of_, slaves_, trial_rows_, test_rows_}; }
+  void add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
+  /// K_r += Ŵ_aᵀ G T̂_b: the derivative G of constraint c's test output at
+  /// node `out` (its slip slots if `slip`) by the position of node `in`,
+  /// through the nodes' rows of W and T (the identity for a free node).
+  void add_variation_block(int c, int out, bool slip, int in, const Mat<D>& G, SparseMatrix& K_r) const;
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
 
   std::vector<Constraint<D>> constraints_;
@@ -101,12 +117,12 @@ class Elimination {
   Positions<D> X_;
   Eigen::VectorXd u_n_, u_;  ///< start of the step; the iterate the maps belong to
   int num_nodes_ = 0;
-  std::vector<char> is_slave_;     ///< per node
-  std::vector<int> slave_row_of_;  ///< per dof: index into the rows, or −1
-  Rows trial_rows_, test_rows_;
-  std::vector<Coefficients> test_;  ///< per constraint: its test coefficients
-  std::vector<int> order_;          ///< constraints, each after those of its chained master nodes
-  SparseMatrix T_, W_, dummy_;
+  std::vector<int> slave_of_;                        ///< per node: its constraint, or −1
+  std::vector<int> slaves_;                          ///< per constraint: its slave node
+  std::vector<BlockRow<D>> trial_rows_, test_rows_;  ///< per constraint: the slave's rows of T and W (chains composed)
+  std::vector<Coefficients> test_;                   ///< per constraint: its test coefficients
+  std::vector<int> order_;                           ///< constraints, each after those of its chained master nodes
+  std::shared_ptr<TangentReduction<D>> reduction_;   ///< K_r's pattern and maps, kept while the nodes are unchanged
   static constexpr int kMaxSwitches = 2;
   std::vector<int> switches_;  ///< facet switches per constraint in this solve
 };

@@ -24,13 +24,19 @@ AlgorithmicState<D> algorithmic_state(const SimplexGeometry<D>& g, const materia
   return {F_mid, F_np1, material::svk_stress<D>(lame, E_alg)};
 }
 
+/// f_A = V F_{n+½} S ∇N_A; one expression for the force and the tangent,
+/// so that both give the same bits.
+template <int D>
+NodeMatrix<D> force_of_state(const SimplexGeometry<D>& g, const AlgorithmicState<D>& s) {
+  return g.volume * (s.F_mid * s.S * g.grad);
+}
+
 }  // namespace
 
 template <int D>
 NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
                              StressScheme scheme) {
-  const AlgorithmicState<D> s = algorithmic_state<D>(g, lame, x, scheme);
-  return g.volume * (s.F_mid * s.S * g.grad);
+  return force_of_state<D>(g, algorithmic_state<D>(g, lame, x, scheme));
 }
 
 // Perturbing x_{n+1} at node B along e_k: δF_{n+1} = e_k a_Bᵀ (a = ∇N), and
@@ -38,25 +44,38 @@ NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& 
 // With SVK's ℂ this yields, for block (A, B), entry (i, k):
 //   ½V [ δ_ik a_B·S a_A + λ (F a_A)_i (G a_B)_k + μ (F a_B)_i (G a_A)_k
 //        + μ (a_A·a_B) (F Gᵀ)_ik ],     F = F_{n+½}.
+// Written column (B, k) at a time: a column is a flat vector over the rows
+// (A, i), and each term an elementwise product of per-cell vectors that
+// repeat a factor over A or over i (vectorisable, no D × D blocks), with
+// λ' = ½Vλ, μ' = ½Vμ folded in once per cell.
 template <int D>
 void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
                             StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
+  constexpr int n = D * (D + 1);
+  using Column = Eigen::Array<double, n, 1>;
   const AlgorithmicState<D> s = algorithmic_state<D>(g, lame, x, scheme);
+  f = force_of_state<D>(g, s);
+  const double h = 0.5 * g.volume;
   const NodeMatrix<D> Fa = s.F_mid * g.grad;
   const NodeMatrix<D> Ga = s.G * g.grad;
-  const Mat<D> FGt = s.F_mid * s.G.transpose();
-  const Eigen::Matrix<double, D + 1, D + 1> aSa = g.grad.transpose() * s.S * g.grad;
+  const Mat<D> mu_FGt = (h * lame.mu) * (s.F_mid * s.G.transpose());
   const Eigen::Matrix<double, D + 1, D + 1> aa = g.grad.transpose() * g.grad;
-  const double h = 0.5 * g.volume;
-  f = g.volume * (s.F_mid * s.S * g.grad);
-  for (int B = 0; B < D + 1; ++B) {
-    for (int A = 0; A < D + 1; ++A) {
-      Mat<D> block = lame.lambda * Fa.col(A) * Ga.col(B).transpose() + lame.mu * Fa.col(B) * Ga.col(A).transpose() +
-                     lame.mu * aa(A, B) * FGt;
-      block.diagonal().array() += aSa(A, B);
-      K.template block<D, D>(A * D, B * D) = h * block;
+  const Eigen::Matrix<double, D + 1, D + 1> aSa = g.grad.transpose() * (h * (s.S * g.grad));
+  // Columns over the rows (A, i): λ'(F a_A)_i; per B, μ'(F a_B)_i and a_A·a_B;
+  // per k, (G a_A)_k and μ'(F Gᵀ)_ik.
+  const Column lambda_Fa = (h * lame.lambda) * Eigen::Map<const Column>(Fa.data());
+  Column mu_Fa[D + 1], aa_of[D + 1], Ga_of[D], FGt_of[D];
+  for (int A = 0; A <= D; ++A)
+    for (int i = 0; i < D; ++i) {
+      for (int B = 0; B <= D; ++B) mu_Fa[B][A * D + i] = (h * lame.mu) * Fa(i, B), aa_of[B][A * D + i] = aa(A, B);
+      for (int k = 0; k < D; ++k) Ga_of[k][A * D + i] = Ga(k, A), FGt_of[k][A * D + i] = mu_FGt(i, k);
     }
-  }
+  for (int B = 0; B <= D; ++B)
+    for (int k = 0; k < D; ++k) {
+      Eigen::Map<Column> column(K.data() + (B * D + k) * n);
+      column = Ga(k, B) * lambda_Fa + mu_Fa[B] * Ga_of[k] + FGt_of[k] * aa_of[B];
+      for (int A = 0; A <= D; ++A) column[A * D + k] += aSa(A, B);
+    }
 }
 
 template <int D>

@@ -45,7 +45,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     const auto start = std::chrono::steady_clock::now();
     contact::Elimination<D> elimination(assembler_.model().X, state.u, u_np1,
                                         contacts_ ? contacts_->constraints() : std::vector<contact::Constraint<D>>{},
-                                        contacts_ ? contacts_->pairs() : no_pairs);
+                                        contacts_ ? contacts_->pairs() : no_pairs, reduction_);
     if (!elimination.empty()) elimination.enforce(u_np1);
     timings_.elimination += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, &elimination);

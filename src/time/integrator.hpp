@@ -8,6 +8,7 @@
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
 #include "contact/active_set.hpp"
+#include "contact/tangent_reduction.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
 
@@ -56,6 +57,9 @@ class Integrator {
   assembly::DirichletMask mask_;
   SparseMatrix K_;
   contact::ActiveSet<D>* contacts_;
+  /// The reduced tangent's pattern, kept across passes and steps while the
+  /// constraints' nodes do not change.
+  std::shared_ptr<contact::TangentReduction<D>> reduction_ = std::make_shared<contact::TangentReduction<D>>();
   int max_passes_;
   std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;

@@ -88,8 +88,9 @@ const SparseMatrix& StepProblem<D>::tangent() {
     return K_;
   }
   solver::ScopedTimer timer(clock(&solver::Timings::elimination));
-  elimination_->reduce_tangent(K_, g_, K_reduced_);  // (43), (58)
-  if (!reduced_mask_.fits(K_reduced_))  // facet switches change the pattern
+  // K_reduced_'s pattern changes only when the constraints' nodes do
+  // (facet switches, another active set): then the mask is remade.
+  if (elimination_->reduce_tangent(K_, g_, K_reduced_))  // (43), (58)
     reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
   reduced_mask_.apply(K_reduced_, diagonal);
   return K_reduced_;

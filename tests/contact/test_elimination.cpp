@@ -1,9 +1,13 @@
 // The direct-elimination map T (ALGORITHM.md §4): Δu_s = N Δu_m (35) or
 // N Δu_m + τ Δξ (49), chains by substitution, cycles refused, the reduced
-// residual (41) and the dummy diagonal β = tr(K_ss)/D (44).
+// residual (41), the dummy diagonal β = tr(K_ss)/D (44), and the reduced
+// tangent's Wᵀ K T (43) against the plain matrix products, with its pattern
+// kept between calls.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <random>
 
 #include "contact/elimination.hpp"
@@ -98,6 +102,105 @@ TEST(Elimination, ReducedTangentHasBetaOnDummyRows) {
   Kr_d.topLeftCorner<3, 3>().setZero();
   EXPECT_LT((Kr_d - expected).norm(), 1e-12);
   EXPECT_EQ(Kr.rows(), K.rows());  // the number of equations stays the same
+}
+
+// A slave of each kind, one of them chained (its master node is the other's
+// slave), and free nodes: 3D slaves 0 (stick on 1, 2, 3), 1 (frictionless
+// on 4, 5, 6) and 7 (frictionless on 8, 9, 4); 2D slaves 0 (stick on 1, 2),
+// 1 (frictionless on 3, 4) and 5 (frictionless on 6, 7).
+template <int D>
+std::vector<Constraint<D>> chained_constraints() {
+  std::vector<Constraint<D>> out(3);
+  const std::vector<std::vector<int>> nodes =
+      D == 3 ? std::vector<std::vector<int>>{{0, 1, 2, 3}, {1, 4, 5, 6}, {7, 8, 9, 4}}
+             : std::vector<std::vector<int>>{{0, 1, 2}, {1, 3, 4}, {5, 6, 7}};
+  for (int c = 0; c < 3; ++c) {
+    Constraint<D>& k = out[c];
+    k.kind = c == 0 ? Kind::stick : Kind::frictionless;
+    k.slave = nodes[c][0];
+    for (int a = 0; a < D; ++a) k.master[a] = nodes[c][a + 1];
+    k.xi.setConstant(0.2 + 0.1 * c);
+    k.tangents = random_vector(D * (D - 1), 10 + c).reshaped(D, D - 1);
+  }
+  return out;
+}
+
+/// A random K over `nodes` nodes: node blocks (as the assembler's pattern)
+/// or scattered entries; always the diagonal.
+template <int D>
+SparseMatrix random_tangent(int nodes, bool node_blocks, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Eigen::Triplet<double>> t;
+  const int n = nodes * D;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const bool couple = node_blocks ? (i / D + j / D) % 3 != 1 : u(rng) > 0.4;
+      if (i == j || couple) t.emplace_back(i, j, u(rng) + (i == j ? 10.0 : 0.0));
+    }
+  SparseMatrix K(n, n);
+  K.setFromTriplets(t.begin(), t.end());
+  return K;
+}
+
+/// Wᵀ K T + β from the maps as dense matrices.
+template <int D>
+Eigen::MatrixXd product_formula(const Elimination<D>& e, const SparseMatrix& K) {
+  const Eigen::MatrixXd T(e.map()), W(e.test_map()), Kd(K);
+  Eigen::MatrixXd out = W.transpose() * Kd * T;
+  for (const Constraint<D>& k : e.constraints()) {
+    const double beta = Kd.diagonal().template segment<D>(k.slave * D).sum() / D;  // (44)
+    for (int j = (k.kind == Kind::frictionless ? D - 1 : 0); j < D; ++j) out(k.slave * D + j, k.slave * D + j) += beta;
+  }
+  return out;
+}
+
+template <int D>
+void check_reduced_tangent_against_products() {
+  constexpr int kNodes = D == 3 ? 11 : 9;
+  const Elimination<D> e(kNodes, chained_constraints<D>());
+  for (const bool node_blocks : {true, false}) {
+    const SparseMatrix K = random_tangent<D>(kNodes, node_blocks, 5);
+    SparseMatrix Kr;
+    e.reduce_tangent(K, Eigen::VectorXd::Zero(kNodes * D), Kr);
+    const Eigen::MatrixXd expected = product_formula(e, K);
+    const double error = (Eigen::MatrixXd(Kr) - expected).norm() / expected.norm();
+    std::printf("[ measured ] %dD, %s K: reduced tangent vs Wᵀ K T + β: %.1e relative\n", D,
+                node_blocks ? "node-block" : "scattered", error);
+    EXPECT_GT(expected.norm(), 1.0);  // non-zero guard
+    EXPECT_LT(error, 1e-14);
+    for (int j = 0; j < K.outerSize(); ++j)  // K's pattern is kept
+      for (SparseMatrix::InnerIterator it(K, j); it; ++it) {
+        const int* begin = Kr.innerIndexPtr() + Kr.outerIndexPtr()[j];
+        const int* end = Kr.innerIndexPtr() + Kr.outerIndexPtr()[j + 1];
+        EXPECT_TRUE(std::binary_search(begin, end, static_cast<int>(it.row())));
+      }
+  }
+}
+
+TEST(Elimination, ReducedTangentEqualsTheProducts3d) { check_reduced_tangent_against_products<3>(); }
+TEST(Elimination, ReducedTangentEqualsTheProducts2d) { check_reduced_tangent_against_products<2>(); }
+
+// New values in the same pattern: K_r keeps its storage and pattern (a
+// solver's symbolic analysis stays valid); a new pattern of K is followed.
+TEST(Elimination, ReducedTangentKeepsItsPattern) {
+  const Elimination<3> e(11, chained_constraints<3>());
+  const Eigen::VectorXd g = Eigen::VectorXd::Zero(33);
+  SparseMatrix K = random_tangent<3>(11, true, 6), Kr;
+  EXPECT_TRUE(e.reduce_tangent(K, g, Kr));  // K_r given its pattern
+  const int* storage = Kr.innerIndexPtr();
+  const std::vector<int> inner(storage, storage + Kr.nonZeros());
+  K.coeffs() = random_vector(static_cast<int>(K.nonZeros()), 7);
+  K.coeffs()(0) = 0.0;
+  EXPECT_FALSE(e.reduce_tangent(K, g, Kr));
+  EXPECT_EQ(Kr.innerIndexPtr(), storage);
+  EXPECT_TRUE(std::equal(inner.begin(), inner.end(), Kr.innerIndexPtr()));
+  EXPECT_EQ(e.pattern_builds(), 1);
+  EXPECT_LT((Eigen::MatrixXd(Kr) - product_formula(e, K)).norm(), 1e-13);
+  const SparseMatrix scattered = random_tangent<3>(11, false, 8);
+  EXPECT_TRUE(e.reduce_tangent(scattered, g, Kr));
+  EXPECT_EQ(e.pattern_builds(), 2);
+  EXPECT_LT((Eigen::MatrixXd(Kr) - product_formula(e, scattered)).norm(), 1e-13);
 }
 
 }  // namespace

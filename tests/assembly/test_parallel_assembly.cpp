@@ -1,0 +1,163 @@
+// Assembly gives the same bits with 1, 2 and 3 threads, and the same bits
+// as a plain serial loop over the cells in the colouring's order.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <limits>
+#include <random>
+
+#include "assembly/assembler.hpp"
+#include "assembly/threads.hpp"
+#include "support/grid_mesh.hpp"
+
+namespace conserve::assembly {
+namespace {
+
+/// Two bodies of different materials, each large enough on its own to be
+/// assembled in parallel.
+template <int D>
+model::Model<D> large_model() {
+  model::Model<D> m;
+  const auto mesh = D == 3 ? test::box_mesh(8, 8, 7, 0.8, 0.8, 0.7) : test::rectangle_mesh(48, 40, 1.2, 1.0);
+  model::add_body<D>(m, mesh, "a", material::Lame::from_young_poisson(1e5, 0.3), 1200.0, 0.5);
+  model::add_body<D>(m, mesh, "b", material::Lame::from_young_poisson(3e5, 0.2), 800.0, 0.5);
+  return m;
+}
+
+std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+bool same_bits(const double* a, const double* b, Eigen::Index n) {
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (bits(a[i]) != bits(b[i])) return false;
+  return true;
+}
+bool same_bits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return a.size() == b.size() && same_bits(a.data(), b.data(), a.size());
+}
+
+/// Everything the assembler computes for one step.
+struct Assembled {
+  Eigen::VectorXd f, magnitude, f_tangent;
+  SparseMatrix K;
+  Orientation orientation;
+  double energy = 0.0;
+};
+
+template <int D>
+Assembled assemble(const Assembler<D>& assembler, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {
+  Assembled r;
+  assembler.internal_force(u_n, u_np1, fem::StressScheme::conserving, r.f, &r.magnitude);
+  r.K = assembler.pattern().make_matrix();
+  assembler.internal_force_tangent(u_n, u_np1, fem::StressScheme::conserving, r.f_tangent, r.K);
+  r.orientation = assembler.min_det_F(u_np1);
+  r.energy = assembler.strain_energy(u_np1);
+  return r;
+}
+
+/// The same quantities by plain serial loops: sums into dofs in the
+/// colouring's order (its chunks in turn, each chunk's cells in turn), sums
+/// and minima over cells in cell order.
+template <int D>
+Assembled serial_reference(const Assembler<D>& assembler, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {
+  const model::Model<D>& m = assembler.model();
+  const CellColouring& colouring = assembler.colouring();
+  Assembled r;
+  r.f.setZero(m.num_dofs());
+  r.magnitude.setZero(m.num_dofs());
+  r.f_tangent.setZero(m.num_dofs());
+  r.K = assembler.pattern().make_matrix();
+  for (int j = 0; j < static_cast<int>(colouring.chunks.size()); ++j)
+    for (int c = colouring.first_cell(colouring.chunks[j]); c < colouring.end_cell(colouring.chunks[j]); ++c) {
+      const auto& lame = m.bodies[m.cell_body[c]].lame;
+      const fem::StepPositions<D> x{assembler.cell_positions(c, u_n), assembler.cell_positions(c, u_np1)};
+      const fem::NodeMatrix<D> fe = fem::internal_force<D>(m.geometry[c], lame, x, fem::StressScheme::conserving);
+      fem::NodeMatrix<D> fe_t;
+      fem::ElementMatrix<D> Ke;
+      fem::internal_force_tangent<D>(m.geometry[c], lame, x, fem::StressScheme::conserving, fe_t, Ke);
+      for (int a = 0; a <= D; ++a) {
+        const int dof = m.cells(a, c) * D;
+        r.f.segment<D>(dof) += fe.col(a);
+        r.magnitude.segment<D>(dof) += fe.col(a).cwiseAbs();
+        r.f_tangent.segment<D>(dof) += fe_t.col(a);
+      }
+      for (int b = 0; b <= D; ++b)
+        for (int k = 0; k < D; ++k)
+          for (int a = 0; a <= D; ++a)
+            for (int i = 0; i < D; ++i)
+              r.K.valuePtr()[assembler.pattern().position(c, a, b, i, k)] += Ke(a * D + i, b * D + k);
+    }
+  r.orientation = {std::numeric_limits<double>::infinity(), -1};
+  for (int c = 0; c < m.num_cells(); ++c) {
+    const auto x = assembler.cell_positions(c, u_np1);
+    const double det = fem::deformation_gradient<D>(x, m.geometry[c]).determinant();
+    if (det < r.orientation.det_F) r.orientation = {det, c};
+    r.energy += fem::strain_energy<D>(m.geometry[c], m.bodies[m.cell_body[c]].lame, x);
+  }
+  return r;
+}
+
+void expect_same_bits(const Assembled& a, const Assembled& b, const std::string& what) {
+  EXPECT_TRUE(same_bits(a.f, b.f)) << what << ": f, max |Δ| " << (a.f - b.f).cwiseAbs().maxCoeff();
+  EXPECT_TRUE(same_bits(a.magnitude, b.magnitude))
+      << what << ": magnitude, max |Δ| " << (a.magnitude - b.magnitude).cwiseAbs().maxCoeff();
+  EXPECT_TRUE(same_bits(a.f_tangent, b.f_tangent))
+      << what << ": f of the tangent call, max |Δ| " << (a.f_tangent - b.f_tangent).cwiseAbs().maxCoeff();
+  ASSERT_EQ(a.K.nonZeros(), b.K.nonZeros());
+  EXPECT_TRUE(same_bits(a.K.valuePtr(), b.K.valuePtr(), a.K.nonZeros()))
+      << what << ": K, max |Δ| " << (Eigen::MatrixXd(a.K) - Eigen::MatrixXd(b.K)).cwiseAbs().maxCoeff();
+  EXPECT_EQ(bits(a.orientation.det_F), bits(b.orientation.det_F)) << what << ": min det F";
+  EXPECT_EQ(a.orientation.cell, b.orientation.cell) << what << ": cell of min det F";
+  EXPECT_EQ(bits(a.energy), bits(b.energy)) << what << ": strain energy";
+}
+
+template <int D>
+void check_thread_independence() {
+  const model::Model<D> model = large_model<D>();
+  ASSERT_GE(model.num_cells(), kMinParallelCells);  // the parallel path runs
+  const Assembler<D> assembler(model, false);
+  ASSERT_GE(assembler.colouring().num_colours(), 2);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  Eigen::VectorXd u_n(model.num_dofs()), u_np1(model.num_dofs());
+  for (int i = 0; i < model.num_dofs(); ++i) u_n[i] = u(rng), u_np1[i] = u(rng);
+
+  const int threads_before = threads();
+  set_threads(1);
+  const Assembled one = assemble(assembler, u_n, u_np1);
+  ASSERT_GT(one.f.norm(), 0.0);  // non-zero guards
+  ASSERT_GT(Eigen::MatrixXd(one.K).norm(), 0.0);
+  ASSERT_GT(one.energy, 0.0);
+  expect_same_bits(one, serial_reference(assembler, u_n, u_np1), "serial reference vs 1 thread");
+  for (int n : {2, 3}) {
+    if (!set_threads(n)) GTEST_SKIP() << "built without OpenMP: one thread only";
+    ASSERT_EQ(threads(), n);
+    expect_same_bits(assemble(assembler, u_n, u_np1), one, std::to_string(n) + " threads vs 1");
+  }
+  set_threads(threads_before);
+}
+
+TEST(ParallelAssembly, SameBitsForAnyThreadCount2d) { check_thread_independence<2>(); }
+TEST(ParallelAssembly, SameBitsForAnyThreadCount3d) { check_thread_independence<3>(); }
+
+/// The colour order differs from cell order only by round-off.
+TEST(ParallelAssembly, CloseToCellOrderSum) {
+  const model::Model<3> model = large_model<3>();
+  const Assembler<3> assembler(model, false);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  Eigen::VectorXd u_n(model.num_dofs()), u_np1(model.num_dofs()), f, f_cells = Eigen::VectorXd::Zero(model.num_dofs());
+  for (int i = 0; i < model.num_dofs(); ++i) u_n[i] = u(rng), u_np1[i] = u(rng);
+  assembler.internal_force(u_n, u_np1, fem::StressScheme::conserving, f);
+  for (int c = 0; c < model.num_cells(); ++c) {
+    const fem::StepPositions<3> x{assembler.cell_positions(c, u_n), assembler.cell_positions(c, u_np1)};
+    const auto fe = fem::internal_force<3>(model.geometry[c], model.bodies[model.cell_body[c]].lame, x,
+                                           fem::StressScheme::conserving);
+    for (int a = 0; a <= 3; ++a) f_cells.segment<3>(3 * static_cast<Eigen::Index>(model.cells(a, c))) += fe.col(a);
+  }
+  ASSERT_GT(f.norm(), 0.0);
+  EXPECT_LT((f - f_cells).norm(), 1e-13 * f.norm());
+}
+
+}  // namespace
+}  // namespace conserve::assembly
