@@ -49,16 +49,22 @@ Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
       colouring_(colour_cells(model.num_nodes(), model.cells)),
       mass_(pattern_.make_matrix()) {
   double* values = mass_.valuePtr();
+  std::vector<Eigen::Triplet<double>> node_entries;
+  node_entries.reserve(static_cast<std::size_t>(model.num_cells()) * (D + 1) * (D + 1));
   for (int c = 0; c < model.num_cells(); ++c) {
     const double density = model.bodies[model.cell_body[c]].density;
     const auto Me = fem::element_mass<D>(density, model.geometry[c].volume, lumped_mass);
     for (int b = 0; b <= D; ++b)
-      for (int a = 0; a <= D; ++a)
+      for (int a = 0; a <= D; ++a) {
         for (int i = 0; i < D; ++i) values[pattern_.position(c, a, b, i, i)] += Me(a, b);
+        if (Me(a, b) != 0.0) node_entries.emplace_back(model.cells(a, c), model.cells(b, c), Me(a, b));
+      }
   }
+  node_mass_.resize(model.num_nodes(), model.num_nodes());
+  node_mass_.setFromTriplets(node_entries.begin(), node_entries.end());  // sums in cell order, as above
   Eigen::VectorXd g(model.num_dofs());
   for (int n = 0; n < model.num_nodes(); ++n) g.segment<D>(n * D) = model.gravity;
-  gravity_force_ = mass_ * g;
+  gravity_force_ = mass_times(g);
   stiffness_scale_.setZero(model.num_dofs());
   for (int c = 0; c < model.num_cells(); ++c) {
     const auto& geometry = model.geometry[c];
@@ -67,6 +73,16 @@ Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
       stiffness_scale_.segment<D>(model.cells(a, c) * D).array() +=
           geometry.volume * modulus * geometry.grad.col(a).norm();
   }
+}
+
+template <int D>
+Eigen::VectorXd Assembler<D>::mass_times(const Eigen::VectorXd& x) const {
+  const auto nodes = node_mass_.rows();
+  Eigen::VectorXd y(x.size());
+  // M symmetric: (M Xᵀ)ᵀ = X M, a dense D × nodes times the sparse M.
+  Eigen::Map<Eigen::Matrix<double, D, Eigen::Dynamic>>(y.data(), D, nodes).noalias() =
+      Eigen::Map<const Eigen::Matrix<double, D, Eigen::Dynamic>>(x.data(), D, nodes) * node_mass_;
+  return y;
 }
 
 template <int D>

@@ -30,6 +30,9 @@ class Assembler {
   [[nodiscard]] const CellColouring& colouring() const { return colouring_; }
   /// M_AB ⊗ 1, with the pattern of the tangent [kg].
   [[nodiscard]] const SparseMatrix& mass() const { return mass_; }
+  /// M x for a node-major vector x: the nodes' scalar mass matrix M_AB
+  /// applied to each of the D components (1/D² of mass()'s entries to read).
+  [[nodiscard]] Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const;
   /// Constant external force from gravity, f_A = Σ_B M_AB g [N].
   [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
 
@@ -64,6 +67,7 @@ class Assembler {
   BlockPattern<D> pattern_;
   CellColouring colouring_;
   SparseMatrix mass_;
+  SparseMatrix node_mass_;  ///< M_AB, nodes × nodes
   Eigen::VectorXd gravity_force_;
   Eigen::VectorXd stiffness_scale_;
 };

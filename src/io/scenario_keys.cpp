@@ -117,7 +117,7 @@ SectionSpec solver_section() {
                .type = KeyType::choice,
                .default_value = "auto",
                .choices = {"auto", "ilu", "gamg"},
-               .doc = "krylov only: `ilu` (ILU(0), RCM ordering, rebuilt per matrix), `gamg` (algebraic multigrid "
+               .doc = "krylov only: `ilu` (block ILU(0) on the nodes' D × D blocks, natural order, rebuilt per matrix), `gamg` (algebraic multigrid "
                       "with the rigid-body modes, interpolation kept while the pattern stays) or `auto` (ilu below "
                       "gamg_from unknowns, gamg from there on)"},
               {.name = "gamg_from",

@@ -22,8 +22,9 @@ struct KrylovSolver::Petsc {
   ::Vec b = nullptr, x = nullptr;
   bool operators_set = false;
   std::vector<int> outer, inner;    ///< the CSC pattern the matrix was made for
-  std::vector<PetscInt> row_start, column;  ///< the same pattern as CSR
-  std::vector<int> from_csc;        ///< CSR position → CSC position
+  std::vector<PetscInt> row_start, column;  ///< the PETSc matrix's (block) CSR pattern
+  std::vector<int> to;              ///< CSC position → position in the PETSc values
+  int block_size = 1;               ///< D for BAIJ, 1 for AIJ
   Eigen::MatrixXd X;                ///< reference coordinates (GAMG's rigid-body modes)
   const SparseMatrix* last = nullptr;  ///< the matrix of set_operator (valid until the next)
   std::unique_ptr<DirectSolver> direct;  ///< the fallback, made on first use
@@ -66,31 +67,34 @@ struct KrylovSolver::Petsc {
            std::equal(inner.begin(), inner.end(), M.innerIndexPtr());
   }
 
-  /// A new PETSc matrix for the pattern of M (compressed columns → rows).
+  /// A new PETSc matrix for the pattern of M (compressed columns → rows):
+  /// point-block (BAIJ, the nodes' D × D blocks) for ILU, whose block
+  /// ILU(0) and products then index blocks rather than entries; scalar
+  /// (AIJ, with the block size noted) for GAMG, which needs AIJ.
   void new_matrix(const SparseMatrix& M) {
     const int n = static_cast<int>(M.rows());
     outer.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.outerSize() + 1);
     inner.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
-    row_start.assign(n + 1, 0);
-    for (int k = 0; k < M.nonZeros(); ++k) ++row_start[inner[k] + 1];
-    for (int i = 0; i < n; ++i) row_start[i + 1] += row_start[i];
-    column.resize(M.nonZeros());
-    from_csc.resize(M.nonZeros());
-    std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1);
-    for (int j = 0; j < n; ++j)  // columns in order: each row's columns come out sorted
-      for (int k = outer[j]; k < outer[j + 1]; ++k) {
-        const PetscInt p = next[inner[k]]++;
-        column[p] = j;
-        from_csc[p] = k;
-      }
+    const int dim = static_cast<int>(X.rows());
+    const bool blocked = kind == Preconditioner::ilu && dim > 1 && n % dim == 0;
     if (A) MatDestroy(&A);
     check(MatCreate(PETSC_COMM_SELF, &A), "MatCreate");
     check(MatSetSizes(A, n, n, n, n), "MatSetSizes");
-    check(MatSetType(A, MATSEQAIJ), "MatSetType");
-    const int dim = static_cast<int>(X.rows());
-    if (dim > 0 && n % dim == 0) check(MatSetBlockSize(A, dim), "MatSetBlockSize");
-    std::vector<PetscScalar> zeros(M.nonZeros(), 0.0);
-    check(MatSeqAIJSetPreallocationCSR(A, row_start.data(), column.data(), zeros.data()), "MatSeqAIJSetPreallocationCSR");
+    if (blocked) {
+      new_block_pattern(dim, n / dim);
+      check(MatSetType(A, MATSEQBAIJ), "MatSetType");
+      std::vector<PetscScalar> zeros(column.size() * dim * dim, 0.0);
+      check(MatSeqBAIJSetPreallocationCSR(A, dim, row_start.data(), column.data(), zeros.data()),
+            "MatSeqBAIJSetPreallocationCSR");
+    } else {
+      new_scalar_pattern(n);
+      check(MatSetType(A, MATSEQAIJ), "MatSetType");
+      if (dim > 0 && n % dim == 0) check(MatSetBlockSize(A, dim), "MatSetBlockSize");
+      std::vector<PetscScalar> zeros(inner.size(), 0.0);
+      check(MatSeqAIJSetPreallocationCSR(A, row_start.data(), column.data(), zeros.data()),
+            "MatSeqAIJSetPreallocationCSR");
+    }
+    block_size = blocked ? dim : 1;
     if (kind == Preconditioner::gamg && dim > 0 && X.size() == n) set_rigid_body_modes(dim);
     if (!b) {
       check(MatCreateVecs(A, &x, &b), "MatCreateVecs");
@@ -104,6 +108,47 @@ struct KrylovSolver::Petsc {
       }
     }
     operators_set = false;
+  }
+
+  /// CSR of the entries; to[k] is where CSC entry k goes in the values.
+  void new_scalar_pattern(int n) {
+    row_start.assign(n + 1, 0);
+    for (const int i : inner) ++row_start[i + 1];
+    for (int i = 0; i < n; ++i) row_start[i + 1] += row_start[i];
+    column.resize(inner.size());
+    to.resize(inner.size());
+    std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1);
+    for (int j = 0; j < n; ++j)  // columns in order: each row's columns come out sorted
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const PetscInt p = next[inner[k]]++;
+        column[p] = j;
+        to[k] = p;
+      }
+  }
+
+  /// CSR of the d × d blocks holding an entry (a block's missing entries
+  /// are stored zeros); to[k] is where CSC entry k goes: SeqBAIJ keeps each
+  /// block column-major, after the blocks before it.
+  void new_block_pattern(int d, int nodes) {
+    std::vector<std::vector<PetscInt>> rows(nodes);  // block columns of each block row
+    for (int J = 0; J < nodes; ++J)
+      for (int j = J * d; j < (J + 1) * d; ++j)
+        for (int k = outer[j]; k < outer[j + 1]; ++k) {
+          auto& r = rows[inner[k] / d];
+          if (r.empty() || r.back() != J) r.push_back(J);  // J ascends: sorted, unique
+        }
+    row_start.assign(nodes + 1, 0);
+    for (int I = 0; I < nodes; ++I) row_start[I + 1] = row_start[I] + static_cast<PetscInt>(rows[I].size());
+    column.resize(row_start[nodes]);
+    for (int I = 0; I < nodes; ++I) std::copy(rows[I].begin(), rows[I].end(), column.begin() + row_start[I]);
+    to.resize(inner.size());
+    for (int j = 0; j < nodes * d; ++j)
+      for (int k = outer[j]; k < outer[j + 1]; ++k) {
+        const int I = inner[k] / d, J = j / d;
+        const PetscInt* all = column.data();
+        const PetscInt block = std::lower_bound(all + row_start[I], all + row_start[I + 1], J) - all;
+        to[k] = static_cast<int>(block * d * d + (j % d) * d + inner[k] % d);
+      }
   }
 
   void set_rigid_body_modes(int dim) {
@@ -123,11 +168,22 @@ struct KrylovSolver::Petsc {
 
   void copy_values(const SparseMatrix& M) {
     PetscScalar* v = nullptr;
-    check(MatSeqAIJGetArrayWrite(A, &v), "MatSeqAIJGetArrayWrite");
+    if (block_size > 1)
+      check(MatSeqBAIJGetArray(A, &v), "MatSeqBAIJGetArray");
+    else
+      check(MatSeqAIJGetArrayWrite(A, &v), "MatSeqAIJGetArrayWrite");
     const double* values = M.valuePtr();
-    const auto size = static_cast<std::ptrdiff_t>(from_csc.size());
-    for (std::ptrdiff_t p = 0; p < size; ++p) v[p] = values[from_csc[p]];
-    check(MatSeqAIJRestoreArrayWrite(A, &v), "MatSeqAIJRestoreArrayWrite");
+    const auto size = static_cast<std::ptrdiff_t>(to.size());
+    for (std::ptrdiff_t k = 0; k < size; ++k) v[to[k]] = values[k];
+    if (block_size > 1) {
+      check(MatSeqBAIJRestoreArray(A, &v), "MatSeqBAIJRestoreArray");
+      // Assembly moves the matrix's state on, so the preconditioner
+      // rebuilds (the pattern is unchanged: no work beyond a pass over rows).
+      check(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+      check(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    } else {
+      check(MatSeqAIJRestoreArrayWrite(A, &v), "MatSeqAIJRestoreArrayWrite");
+    }
   }
 };
 

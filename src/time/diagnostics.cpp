@@ -5,7 +5,7 @@ namespace conserve::time {
 template <int D>
 Diagnostics diagnostics(const assembly::Assembler<D>& assembler, const model::State& state) {
   const auto& model = assembler.model();
-  const Eigen::VectorXd p = assembler.mass() * state.v;
+  const Eigen::VectorXd p = assembler.mass_times(state.v);
   Diagnostics d;
   d.kinetic = 0.5 * state.v.dot(p);
   d.strain = assembler.strain_energy(state.u);

@@ -24,7 +24,7 @@ class Integrator {
              contact::ActiveSet<D>* contacts = nullptr, int max_passes = 10,
              const solver::LinearSolverSettings& linear = {});
 
-  /// Advances `state` by `dt` [s]: predictor u_n + Δt V_n with prescribed
+  /// Advances `state` by `dt` [s]: predictor u_n + Δt V_n + ½Δt² g with prescribed
   /// values at t_{n+1} and the active constraints enforced, Newton on the
   /// reduced system, the active-set update and, if the set changed, the same
   /// step again (ALGORITHM.md §7); then V_{n+1} = (2/Δt)Δu − V_n (19).
@@ -69,6 +69,7 @@ class Integrator {
 
   [[nodiscard]] std::string not_converged(const solver::NewtonReport& report, std::int64_t step, double t) const;
   void check_orientation(const Eigen::VectorXd& u, std::int64_t step, double t) const;
+  [[nodiscard]] Eigen::VectorXd predictor(const model::State& state, double dt) const;
 };
 
 /// Puts the prescribed values u(t) on `u` and the rates on `v` (if given).

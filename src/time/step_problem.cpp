@@ -21,13 +21,13 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
       u_np1_(u_np1),
       K_(K),
       elimination_(elimination) {
-  const Eigen::VectorXd momentum_term = (2.0 / dt) * (assembler.mass() * start.v);
+  const Eigen::VectorXd momentum_term = (2.0 / dt) * assembler.mass_times(start.v);
   inertia_n_ = momentum_term + assembler.gravity_force();
   Eigen::VectorXd f_n;
   assembler.internal_force(start.u, start.u, scheme, f_n);
   start_scale_ = std::max({momentum_term.norm(), assembler.gravity_force().norm(), f_n.norm()});
   force_scale_ = start_scale_;
-  magnitude_n_ = (2.0 / dt) * (assembler.mass() * start.v.cwiseAbs()) + assembler.gravity_force().cwiseAbs() +
+  magnitude_n_ = (2.0 / dt) * assembler.mass_times(start.v.cwiseAbs()) + assembler.gravity_force().cwiseAbs() +
                  assembler.stiffness_scale();
   energy_n_ = 0.25 * dt * start.v.dot(momentum_term) + assembler.strain_energy(start.u) +
               std::abs(assembler.gravity_force().dot(start.u));
@@ -48,10 +48,10 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
     assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_, &magnitude_);
     du_ = u_np1_ - start_.u;
-    g_ = (2.0 / (dt_ * dt_)) * (assembler_.mass() * du_) - inertia_n_ + f_int_;
+    g_ = (2.0 / (dt_ * dt_)) * assembler_.mass_times(du_) - inertia_n_ + f_int_;
     // Δu = u_{n+1} − u_n is exact only to ε(|u_{n+1}| + |u_n|): at small
     // steps the inertia term amplifies that by 2/Δt².
-    magnitude_ += (2.0 / (dt_ * dt_)) * (assembler_.mass() * (u_np1_.cwiseAbs() + start_.u.cwiseAbs())) + magnitude_n_;
+    magnitude_ += (2.0 / (dt_ * dt_)) * assembler_.mass_times(u_np1_.cwiseAbs() + start_.u.cwiseAbs()) + magnitude_n_;
     mask_.apply(magnitude_);
     floor_ = kRoundOff * magnitude_.norm();
     Eigen::VectorXd free_motion = du_;  // the prescribed dofs' residual is masked: it does no work
