@@ -108,7 +108,7 @@ struct SolverSpec {
   int gamg_from = 200000;                  ///< auto: GAMG from this many unknowns on
   int max_linear_iterations = 200;
   double forcing_max = 0.1;                ///< Eisenstat–Walker's largest relative linear tolerance
-  bool modified_newton = false;            ///< keep the tangent while convergence is fast
+  bool modified_newton = true;             ///< keep the tangent while convergence is fast
   std::string petsc_options;
 };
 

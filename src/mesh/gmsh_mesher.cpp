@@ -9,6 +9,10 @@
 #include <unordered_map>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "core/error.hpp"
 #include "mesh/topology.hpp"
 
@@ -23,16 +27,30 @@ std::mutex& gmsh_mutex() {
   return mutex;
 }
 
-/// gmsh::initialize ... gmsh::finalize around one generation.
+/// gmsh::initialize ... gmsh::finalize around one generation. Gmsh sets
+/// OpenMP's process-wide thread count to its General.NumThreads (1) as it
+/// starts and meshes; the session puts back what the process had, or every
+/// later parallel loop (the assembly) runs on one thread.
 class GmshSession {
  public:
   GmshSession() {
+#ifdef _OPENMP
+    threads_ = omp_get_max_threads();
+#endif
     gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
   }
-  ~GmshSession() { gmsh::finalize(); }
+  ~GmshSession() {
+    gmsh::finalize();
+#ifdef _OPENMP
+    omp_set_num_threads(threads_);
+#endif
+  }
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
+
+ private:
+  int threads_ = 1;
 };
 
 int cell_type(int dim) { return dim == 2 ? 2 : 4; }   // 3-node triangle, 4-node tet

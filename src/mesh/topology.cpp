@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "core/error.hpp"
@@ -173,6 +174,61 @@ Mesh extract(const Mesh& mesh, const std::string& group) {
     FacetGroup restricted{restrict_facets(group_facets.facets, new_index)};
     if (restricted.facets.cols() > 0) out.facet_groups[name] = std::move(restricted);
   }
+  return out;
+}
+
+void node_graph(const Mesh& mesh, std::vector<int>& offsets, std::vector<int>& neighbours) {
+  std::vector<std::vector<int>> adjacent(static_cast<std::size_t>(mesh.num_nodes()));
+  for (int c = 0; c < mesh.num_cells(); ++c)
+    for (int a = 0; a <= mesh.dim; ++a)
+      for (int b = 0; b <= mesh.dim; ++b)
+        if (a != b) adjacent[static_cast<std::size_t>(mesh.cells(a, c))].push_back(mesh.cells(b, c));
+  offsets.assign(1, 0);
+  neighbours.clear();
+  for (auto& list : adjacent) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    neighbours.insert(neighbours.end(), list.begin(), list.end());
+    offsets.push_back(static_cast<int>(neighbours.size()));
+  }
+}
+
+Mesh renumbered(const Mesh& mesh, const std::vector<int>& order) {
+  const auto n = static_cast<std::size_t>(mesh.num_nodes());
+  std::vector<int> new_index(n, -1);
+  if (order.size() != n) throw std::invalid_argument("renumbered: the order does not list every node");
+  for (std::size_t k = 0; k < n; ++k) {
+    const int v = order[k];
+    if (v < 0 || v >= mesh.num_nodes() || new_index[static_cast<std::size_t>(v)] >= 0)
+      throw std::invalid_argument("renumbered: the order is not a permutation of the nodes");
+    new_index[static_cast<std::size_t>(v)] = static_cast<int>(k);
+  }
+  Mesh out;
+  out.dim = mesh.dim;
+  out.points.resize(mesh.points.rows(), mesh.points.cols());
+  for (std::size_t k = 0; k < n; ++k) out.points.col(static_cast<Eigen::Index>(k)) = mesh.points.col(order[k]);
+  std::vector<int> lowest(static_cast<std::size_t>(mesh.num_cells()));
+  for (int c = 0; c < mesh.num_cells(); ++c) {
+    int low = mesh.num_nodes();
+    for (int a = 0; a <= mesh.dim; ++a) low = std::min(low, new_index[static_cast<std::size_t>(mesh.cells(a, c))]);
+    lowest[static_cast<std::size_t>(c)] = low;
+  }
+  std::vector<int> cell_order(lowest.size());
+  for (std::size_t c = 0; c < cell_order.size(); ++c) cell_order[c] = static_cast<int>(c);
+  std::stable_sort(cell_order.begin(), cell_order.end(), [&](int a, int b) {
+    return lowest[static_cast<std::size_t>(a)] < lowest[static_cast<std::size_t>(b)];
+  });
+  std::vector<int> new_cell(cell_order.size());
+  out.cells.resize(mesh.cells.rows(), mesh.cells.cols());
+  for (std::size_t j = 0; j < cell_order.size(); ++j) {
+    new_cell[static_cast<std::size_t>(cell_order[j])] = static_cast<int>(j);
+    for (int a = 0; a <= mesh.dim; ++a)  // the local order, and so the orientation, is kept
+      out.cells(a, static_cast<Eigen::Index>(j)) = new_index[static_cast<std::size_t>(mesh.cells(a, cell_order[j]))];
+  }
+  out.cell_groups = restrict_cell_groups(mesh.cell_groups, new_cell);
+  for (auto& [name, members] : out.cell_groups) std::sort(members.begin(), members.end());
+  for (const auto& [name, group_facets] : mesh.facet_groups)
+    out.facet_groups[name] = FacetGroup{restrict_facets(group_facets.facets, new_index)};
   return out;
 }
 

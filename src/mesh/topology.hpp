@@ -1,6 +1,7 @@
 #pragma once
 /// Topological helpers on simplex meshes.
 #include <string>
+#include <vector>
 
 #include "mesh/mesh.hpp"
 
@@ -21,6 +22,17 @@ int orient_outward(Eigen::MatrixXi& facets, const Eigen::MatrixXi& boundary);
 /// all belong to it (dropped if empty). Throws InputError if the group does
 /// not exist (message lists the groups there are).
 Mesh extract(const Mesh& mesh, const std::string& group);
+
+/// The neighbours of each node through the cells, as offsets/neighbours
+/// (node v's are neighbours[offsets[v] … offsets[v+1]), ascending).
+void node_graph(const Mesh& mesh, std::vector<int>& offsets, std::vector<int>& neighbours);
+
+/// The same mesh with node order[k] numbered k (order: a permutation of
+/// the nodes) and its cells sorted by their lowest new node (ties in their
+/// old order), groups following: with a band-narrowing order, a loop over
+/// the cells then walks through the nodes' data instead of jumping.
+/// Throws std::invalid_argument if `order` is not a permutation.
+Mesh renumbered(const Mesh& mesh, const std::vector<int>& order);
 
 /// Signed volume [m³] (3D) or signed area [m²] (2D) of cell `cell`:
 /// positive when the cell is positively oriented.

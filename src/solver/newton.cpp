@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 namespace conserve::solver {
 
 namespace {
 
 constexpr const char* kIterate = "not converged";
+/// Iterations a fresh tangent is left to finish a step in (modified Newton).
+constexpr int kSpareIterations = 4;
 
 /// The reason the residual at the end of `report` is not a solution, or
 /// empty if it is one (converged), or kIterate to iterate on. At the
@@ -68,6 +71,20 @@ class Forcing {
   static constexpr double kGolden = 1.618033988749895;
   double max_, eta_, c_;
 };
+
+/// Modified Newton: whether the tangent of the last solve serves the next
+/// one. It does while it contracts the residual by reuse_ratio or better
+/// per iteration and, at the rate it shows, reaches the tolerance with
+/// iterations to spare for a fresh tangent should it slow down.
+bool keep_tangent(const NewtonReport& report, const NewtonSettings& settings) {
+  if (!settings.modified_newton) return false;
+  const auto& norms = report.residual_norms;
+  const double r = norms.back(), ratio = r / norms[norms.size() - 2];
+  if (!(ratio <= settings.reuse_ratio)) return false;
+  if (!(r > report.tolerance) || !(ratio > 0.0)) return true;
+  const double needed = std::log(report.tolerance / r) / std::log(ratio);
+  return needed <= settings.max_iterations - report.iterations - kSpareIterations;
+}
 
 }  // namespace
 
@@ -131,8 +148,7 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
     report.floor = problem.residual_floor();
     forcing.observe(r_old, linear.residual, report.residual_norms.back(), report.tolerance);
     if (nonlinearity) *nonlinearity = forcing.nonlinearity();
-    const double ratio = report.residual_norms.back() / report.residual_norms[report.residual_norms.size() - 2];
-    refactor = !settings.modified_newton || !(ratio <= settings.reuse_ratio);
+    refactor = !keep_tangent(report, settings);
   }
 }
 

@@ -98,19 +98,24 @@ const SparseMatrix& StepProblem<D>::tangent() {
 
 template <int D>
 void StepProblem<D>::update(const Eigen::VectorXd& increment) {
+  u_before_ = u_np1_;
   if (eliminating()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
+    elimination_before_ = *elimination_;
     elimination_->update(increment, u_np1_);  // (45), (60)–(64)
   } else {
-    u_before_ = u_np1_;
     u_np1_ += increment;
   }
 }
 
 template <int D>
 bool StepProblem<D>::revert() {
-  if (eliminating() || u_before_.size() != u_np1_.size()) return false;
+  if (u_before_.size() != u_np1_.size()) return false;
   u_np1_ = u_before_;
+  if (eliminating()) {
+    if (!elimination_before_) return false;
+    *elimination_ = *elimination_before_;
+  }
   return true;
 }
 

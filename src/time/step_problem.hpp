@@ -6,6 +6,8 @@
 /// direct elimination (Δu = T q, r = Tᵀ g, K_r = Tᵀ K T + β); without,
 /// q = Δu. Prescribed dofs carry their prescribed value; their rows are
 /// trivial.
+#include <optional>
+
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
 #include "contact/elimination.hpp"
@@ -28,8 +30,8 @@ class StepProblem final : public solver::NewtonProblem {
   void residual(Eigen::VectorXd& r) override;
   const SparseMatrix& tangent() override;
   void update(const Eigen::VectorXd& increment) override;
-  /// Back to the iterate before the last update (without active
-  /// constraints only: their facets and maps move with the update).
+  /// Back to the iterate before the last update, with the constraints'
+  /// facets, ξ and maps as they were (they move with the update).
   bool revert() override;
   /// The largest of the inertia, load and elastic force norms at the start
   /// of the step and of the prescribed dofs' reactions at the last residual.
@@ -66,6 +68,7 @@ class StepProblem final : public solver::NewtonProblem {
   Eigen::VectorXd magnitude_n_;  ///< (2/Δt) M |V_n| + |f_ext| + the unit-strain forces: constant magnitudes
   Eigen::VectorXd f_int_, g_, du_, magnitude_;
   Eigen::VectorXd u_before_;  ///< the iterate before the last update (revert)
+  std::optional<contact::Elimination<D>> elimination_before_;  ///< the elimination before it
   double start_scale_ = 0.0, force_scale_ = 0.0;
   double energy_n_ = 0.0;  ///< K_n + W_n + |Π_n| [J]
   double motion_ = 0.0;    ///< |Δu| over the free dofs at the last residual [m]

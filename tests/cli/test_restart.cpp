@@ -121,12 +121,12 @@ TEST(Restart, RefusesACheckpointOfAnotherThicknessOrSolverPath) {
   std::string thick = kGlancingDiscs;
   thick.replace(thick.find("[body.material]"), 15, "thickness = 0.5\n[body.material]");
   write_file(dir / "thick.toml", thick);
-  write_file(dir / "reuse.toml", kGlancingDiscs + "[solver]\nmodified_newton = true\n");
+  write_file(dir / "full.toml", kGlancingDiscs + "[solver]\nmodified_newton = false\n");
   write_file(dir / "direct.toml", kGlancingDiscs + "[solver]\nmethod = \"direct\"\n");
   ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10", dir).exit_code, 0);
   for (const auto& [other, what] :
        {std::pair<std::string, std::string>{"thick.toml", "body 'small' thickness = 1, this scenario has 0.5"},
-        {"reuse.toml", "[solver] modified_newton = false, this scenario has true"},
+        {"full.toml", "[solver] modified_newton = true, this scenario has false"},
         {"direct.toml", "[solver] method = krylov, this scenario has direct"}}) {
     ASSERT_EQ(run_cli("check " + other, dir).exit_code, 0) << other;
     const CliResult r = run_cli("run " + other + " -q -o b --restart a/checkpoints/ckpt_000010.bin", dir);

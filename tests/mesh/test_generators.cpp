@@ -8,6 +8,10 @@
 #include <numbers>
 #include <thread>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/topology.hpp"
@@ -149,6 +153,21 @@ INSTANTIATE_TEST_SUITE_P(AllShapes, GeneratorTest, ::testing::ValuesIn(cases()),
 std::vector<Case> surface_cases() {
   return {{"square", {{"lx", 2}, {"ly", 1}, {"size", 0.3}}, 2.0, 1e-12, {}},
           {"segment", {{"lx", 2}, {"size", 0.3}}, 2.0, 1e-12, {}}};
+}
+
+// Gmsh sets OpenMP's thread count to its own General.NumThreads (1) when it
+// starts: every later parallel loop of the process then ran on one thread.
+TEST(Generators, GmshLeavesTheProcessThreadsAsTheyWere) {
+#ifdef _OPENMP
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(3);
+  const Mesh m = generate_mesh("spherical_shell", {{"inner_radius", 0.5}, {"outer_radius", 1.0}, {"size", 0.5}});
+  EXPECT_GT(m.num_cells(), 0);
+  EXPECT_EQ(omp_get_max_threads(), 3);
+  omp_set_num_threads(before);
+#else
+  GTEST_SKIP() << "built without OpenMP";
+#endif
 }
 
 TEST(Generators, CatalogDescribesEveryGenerator) {

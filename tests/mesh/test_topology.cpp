@@ -124,6 +124,55 @@ TEST(Topology, ExtractRenumbersAndRestrictsGroups) {
   EXPECT_EQ(all.facet_groups.size(), 2u);
 }
 
+TEST(Topology, NodeGraphListsEachNeighbourOnce) {
+  std::vector<int> offsets, neighbours;
+  node_graph(kuhn_cube(), offsets, neighbours);
+  ASSERT_EQ(offsets.size(), 9u);
+  // Nodes 0 and 7 are on every tet: neighbours of all others, once each.
+  EXPECT_EQ(std::vector<int>(neighbours.begin() + offsets[0], neighbours.begin() + offsets[1]),
+            (std::vector<int>{1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(std::vector<int>(neighbours.begin() + offsets[1], neighbours.begin() + offsets[2]),
+            (std::vector<int>{0, 3, 5, 7}));
+}
+
+TEST(Topology, RenumberedKeepsTheMeshAndSortsCellsByTheirLowestNode) {
+  Mesh mesh = kuhn_cube();
+  mesh.facet_groups["bottom"].facets = Eigen::Matrix<int, 3, 2>{{0, 0}, {2, 3}, {3, 1}};
+  const std::vector<int> order = {7, 6, 5, 4, 3, 2, 1, 0};  // node 7 first
+  const Mesh r = renumbered(mesh, order);
+  ASSERT_EQ(r.num_nodes(), 8);
+  ASSERT_EQ(r.num_cells(), 6);
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(r.points.col(k), mesh.points.col(order[k]));
+  // The same cells, as sets of points, each still positively oriented, in
+  // increasing lowest new node.
+  int previous_lowest = -1;
+  for (int c = 0; c < r.num_cells(); ++c) {
+    EXPECT_EQ(cell_orientation(r, c), CellOrientation::positive);
+    const int lowest = r.cells.col(c).minCoeff();
+    EXPECT_LE(previous_lowest, lowest);
+    previous_lowest = lowest;
+  }
+  EXPECT_DOUBLE_EQ(total_volume(r), total_volume(mesh));
+  // Every cell keeps its group: cell j of the new mesh is some old cell whose
+  // node set maps onto it.
+  const auto old_cell_of = [&](int j) {
+    for (int c = 0; c < mesh.num_cells(); ++c) {
+      bool same = true;
+      for (int a = 0; a < 4; ++a) same = same && r.cells(a, j) == 7 - mesh.cells(a, c);
+      if (same) return c;
+    }
+    return -1;
+  };
+  for (const char* name : {"low", "high"})
+    for (const int j : r.cell_groups.at(name)) {
+      const auto& old = mesh.cell_groups.at(name);
+      EXPECT_NE(std::find(old.begin(), old.end(), old_cell_of(j)), old.end()) << name << " cell " << j;
+    }
+  EXPECT_EQ(r.facet_groups.at("bottom").facets, (Eigen::Matrix<int, 3, 2>{{7, 7}, {5, 4}, {4, 6}}));
+  EXPECT_THROW(renumbered(mesh, {0, 1, 2, 3, 4, 5, 6, 6}), std::invalid_argument);
+  EXPECT_THROW(renumbered(mesh, {0, 1, 2}), std::invalid_argument);
+}
+
 TEST(Topology, ExtractUnknownGroupListsAvailable) {
   EXPECT_THAT(error_of([] { extract(kuhn_cube(), "middle"); }),
               AllOf(HasSubstr("unknown cell group 'middle'"), HasSubstr("high, low")));

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <limits>
 
 #include <random>
@@ -8,6 +10,7 @@
 #include "solver/direct_solver.hpp"
 #include "solver/krylov_solver.hpp"
 #include "solver/newton.hpp"
+#include "solver/ordering.hpp"
 
 namespace conserve::solver {
 namespace {
@@ -141,6 +144,49 @@ TEST(KrylovSolver, ALooseToleranceTakesFewerIterationsAndIsNotExact) {
   EXPECT_LT(few, many);
   EXPECT_GT((A * loose - b).norm(), 1e-6 * b.norm());  // it did stop early
   EXPECT_LE((A * loose - b).norm(), 1e-2 * b.norm());
+}
+
+/// The largest |i − j| over the graph's edges once vertex order[k] is k.
+int bandwidth(const std::vector<int>& offsets, const std::vector<int>& neighbours, const std::vector<int>& order) {
+  std::vector<int> position(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) position[order[k]] = static_cast<int>(k);
+  int band = 0;
+  for (std::size_t v = 0; v + 1 < offsets.size(); ++v)
+    for (int k = offsets[v]; k < offsets[v + 1]; ++k)
+      band = std::max(band, std::abs(position[v] - position[neighbours[k]]));
+  return band;
+}
+
+TEST(Ordering, ReverseCuthillMcKeeNarrowsTheBandOfAShuffledGrid) {
+  // A 30 × 30 grid graph (5-point stencil) with its vertices shuffled: its
+  // natural band is 30, the shuffled one close to n.
+  const int m = 30, n = m * m;
+  std::vector<int> label(n);
+  for (int v = 0; v < n; ++v) label[v] = v;
+  std::shuffle(label.begin(), label.end(), std::mt19937(7));
+  std::vector<std::vector<int>> adjacent(n);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const int v = label[i * m + j];
+      if (i + 1 < m) adjacent[v].push_back(label[(i + 1) * m + j]), adjacent[label[(i + 1) * m + j]].push_back(v);
+      if (j + 1 < m) adjacent[v].push_back(label[i * m + j + 1]), adjacent[label[i * m + j + 1]].push_back(v);
+    }
+  std::vector<int> offsets{0}, neighbours;
+  for (auto& a : adjacent) {
+    std::sort(a.begin(), a.end());
+    neighbours.insert(neighbours.end(), a.begin(), a.end());
+    offsets.push_back(static_cast<int>(neighbours.size()));
+  }
+  std::vector<int> identity(n);
+  for (int v = 0; v < n; ++v) identity[v] = v;
+  const std::vector<int> order = reverse_cuthill_mckee(offsets, neighbours);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted, identity);  // a permutation
+  EXPECT_GT(bandwidth(offsets, neighbours, identity), 10 * m);
+  EXPECT_LE(bandwidth(offsets, neighbours, order), 2 * m);
+  EXPECT_TRUE(reverse_cuthill_mckee({0}, {}).empty());
+  EXPECT_THROW(reverse_cuthill_mckee({0, 1}, {3}), SolverError);
 }
 
 TEST(DirectSolver, ReusesSymbolicAnalysisWhilePatternIsUnchanged) {

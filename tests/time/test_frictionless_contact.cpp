@@ -32,6 +32,41 @@ TEST(FrictionlessContact, ReducedTangentMatchesFiniteDifferences2d) {
   EXPECT_LT(test::reduced_tangent_error(run), 1e-6);
 }
 
+// The line search backtracks from the same iterate: with active
+// constraints, revert() must restore the displacements and the
+// constraints' facets, ξ and maps, so that the residual there is the one
+// before the update, bit for bit (before, revert() refused: Newton could
+// not backtrack in a contact pass and a diverging step was cut back).
+TEST(FrictionlessContact, RevertRestoresTheIterateAndItsConstraints) {
+  ContactRun<3> run(test::glancing_spheres(3, "frictionless", 0.1));
+  test::run_until_contact(run, 3, 150);
+  const auto& model = run.problem.model;
+  const double dt = run.scenario.time.step;
+  Eigen::VectorXd u = run.state.u + dt * run.state.v;
+  time::apply_prescribed(model.prescribed, run.state.time + dt, u);
+  contact::Elimination<3> e(model.X, run.state.u, u, run.contacts->constraints(), run.contacts->pairs());
+  e.enforce(u);
+  const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
+  SparseMatrix K = run.assembler->pattern().make_matrix();
+  StepProblem<3> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u, K, &e);
+  Eigen::VectorXd r0, r1, r2;
+  problem.residual(r0);
+  const Eigen::VectorXd u0 = u;
+  const std::vector<contact::Constraint<3>> before = e.constraints();
+  problem.update(0.3 * r0.cwiseSign() * model.size() * 1e-3);  // a large, wrong increment
+  problem.residual(r1);
+  ASSERT_GT((r1 - r0).norm(), 0.0);
+  ASSERT_TRUE(problem.revert());
+  problem.residual(r2);
+  EXPECT_EQ(u, u0);
+  EXPECT_EQ(r2, r0);
+  ASSERT_EQ(e.constraints().size(), before.size());
+  for (std::size_t c = 0; c < before.size(); ++c) {
+    EXPECT_EQ(e.constraints()[c].facet, before[c].facet);
+    EXPECT_EQ(e.constraints()[c].xi, before[c].xi);
+  }
+}
+
 // The reduced tangent's products (43), (58) against the plain sparse
 // products on a real contact configuration (the glancing spheres; the
 // chained three cylinders below), pattern kept through a Newton update.
