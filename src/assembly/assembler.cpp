@@ -96,13 +96,22 @@ fem::NodeMatrix<D> Assembler<D>::cell_positions(int cell, const Eigen::VectorXd&
 }
 
 template <int D>
-void Assembler<D>::internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+typename Assembler<D>::StepStart Assembler<D>::step_start(const Eigen::VectorXd& u_n) const {
+  StepStart start(static_cast<std::size_t>(model_.num_cells()));
+#pragma omp parallel for schedule(static) if (model_.num_cells() >= kMinParallelCells)
+  for (int c = 0; c < model_.num_cells(); ++c)
+    start[static_cast<std::size_t>(c)] = fem::cell_start<D>(model_.geometry[c], cell_positions(c, u_n));
+  return start;
+}
+
+template <int D>
+void Assembler<D>::internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                                   Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
   f.setZero(model_.num_dofs());
   if (magnitude) magnitude->setZero(model_.num_dofs());
   for_each_coloured(colouring_, [&](int c) {
-    const fem::StepPositions<D> x{cell_positions(c, u_n), cell_positions(c, u_np1)};
-    const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], lame(c), x, scheme);
+    const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
+                                                         cell_positions(c, u_np1), scheme);
     for (int a = 0; a <= D; ++a) f.segment<D>(model_.cells(a, c) * D) += fe.col(a);
     if (magnitude)
       for (int a = 0; a <= D; ++a) magnitude->segment<D>(model_.cells(a, c) * D) += fe.col(a).cwiseAbs();
@@ -110,19 +119,31 @@ void Assembler<D>::internal_force(const Eigen::VectorXd& u_n, const Eigen::Vecto
 }
 
 template <int D>
-void Assembler<D>::internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
+void Assembler<D>::internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                                  Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
+  internal_force(step_start(u_n), u_np1, scheme, f, magnitude);
+}
+
+template <int D>
+void Assembler<D>::internal_force_tangent(const StepStart& start, const Eigen::VectorXd& u_np1,
                                           fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const {
   f.setZero(model_.num_dofs());
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   double* values = K.valuePtr();
   for_each_coloured(colouring_, [&](int c) {
-    const fem::StepPositions<D> x{cell_positions(c, u_n), cell_positions(c, u_np1)};
     fem::NodeMatrix<D> fe;
     fem::ElementMatrix<D> Ke;
-    fem::internal_force_tangent<D>(model_.geometry[c], lame(c), x, scheme, fe, Ke);
+    fem::internal_force_tangent<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
+                                   cell_positions(c, u_np1), scheme, fe, Ke);
     for (int a = 0; a <= D; ++a) f.segment<D>(model_.cells(a, c) * D) += fe.col(a);
     pattern_.add_cell_matrix(c, Ke, values);
   });
+}
+
+template <int D>
+void Assembler<D>::internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
+                                          fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const {
+  internal_force_tangent(step_start(u_n), u_np1, scheme, f, K);
 }
 
 template <int D>

@@ -5,6 +5,8 @@
 /// (assembly/threads.hpp) and give the same bits for any number of them:
 /// sums into global entries follow the colouring's order
 /// (assembly/colouring.hpp), sums and minima over cells go in cell order.
+#include <vector>
+
 #include "assembly/block_pattern.hpp"
 #include "assembly/colouring.hpp"
 #include "fem/element.hpp"
@@ -36,8 +38,16 @@ class Assembler {
   /// Constant external force from gravity, f_A = Σ_B M_AB g [N].
   [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
 
+  /// Each cell's F_n and E_n at the start u_n of a step: what every
+  /// residual and tangent of the step shares (cell order).
+  using StepStart = std::vector<fem::CellStart<D>>;
+  [[nodiscard]] StepStart step_start(const Eigen::VectorXd& u_n) const;
+
   /// Internal force of the step u_n → u_{n+1} [N]; with `magnitude`, also
   /// Σ_cells |f_cell| per dof (what the sum cancelled, for round-off bounds).
+  void internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                      Eigen::VectorXd& f, Eigen::VectorXd* magnitude = nullptr) const;
+  /// The same from u_n (step_start(u_n) made for this call): the same bits.
   void internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                       Eigen::VectorXd& f, Eigen::VectorXd* magnitude = nullptr) const;
 
@@ -48,6 +58,8 @@ class Assembler {
   [[nodiscard]] const Eigen::VectorXd& stiffness_scale() const { return stiffness_scale_; }
 
   /// Internal force and K = ∂f/∂u_{n+1}; K must have the pattern's layout.
+  void internal_force_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                              Eigen::VectorXd& f, SparseMatrix& K) const;
   void internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                               Eigen::VectorXd& f, SparseMatrix& K) const;
 

@@ -13,14 +13,13 @@ struct AlgorithmicState {
 
 template <int D>
 AlgorithmicState<D> algorithmic_state(const SimplexGeometry<D>& g, const material::Lame& lame,
-                                      const StepPositions<D>& x, StressScheme scheme) {
-  const Mat<D> F_n = deformation_gradient<D>(x.x_n, g);
-  const Mat<D> F_np1 = deformation_gradient<D>(x.x_np1, g);
-  const Mat<D> F_mid = 0.5 * (F_n + F_np1);
+                                      const CellStart<D>& start, const NodeMatrix<D>& x_np1, StressScheme scheme) {
+  const Mat<D> F_np1 = deformation_gradient<D>(x_np1, g);
+  const Mat<D> F_mid = 0.5 * (start.F + F_np1);
   if (scheme == StressScheme::midpoint) {
     return {F_mid, F_mid, material::svk_stress<D>(lame, material::green_lagrange<D>(F_mid))};
   }
-  const Mat<D> E_alg = 0.5 * (material::green_lagrange<D>(F_n) + material::green_lagrange<D>(F_np1));
+  const Mat<D> E_alg = 0.5 * (start.E + material::green_lagrange<D>(F_np1));
   return {F_mid, F_np1, material::svk_stress<D>(lame, E_alg)};
 }
 
@@ -34,9 +33,21 @@ NodeMatrix<D> force_of_state(const SimplexGeometry<D>& g, const AlgorithmicState
 }  // namespace
 
 template <int D>
+CellStart<D> cell_start(const SimplexGeometry<D>& g, const NodeMatrix<D>& x_n) {
+  const Mat<D> F = deformation_gradient<D>(x_n, g);
+  return {F, material::green_lagrange<D>(F)};
+}
+
+template <int D>
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+                             const NodeMatrix<D>& x_np1, StressScheme scheme) {
+  return force_of_state<D>(g, algorithmic_state<D>(g, lame, start, x_np1, scheme));
+}
+
+template <int D>
 NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
                              StressScheme scheme) {
-  return force_of_state<D>(g, algorithmic_state<D>(g, lame, x, scheme));
+  return internal_force<D>(g, lame, cell_start<D>(g, x.x_n), x.x_np1, scheme);
 }
 
 // Perturbing x_{n+1} at node B along e_k: δF_{n+1} = e_k a_Bᵀ (a = ∇N), and
@@ -51,9 +62,15 @@ NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& 
 template <int D>
 void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
                             StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
+  internal_force_tangent<D>(g, lame, cell_start<D>(g, x.x_n), x.x_np1, scheme, f, K);
+}
+
+template <int D>
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+                            const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
   constexpr int n = D * (D + 1);
   using Column = Eigen::Array<double, n, 1>;
-  const AlgorithmicState<D> s = algorithmic_state<D>(g, lame, x, scheme);
+  const AlgorithmicState<D> s = algorithmic_state<D>(g, lame, start, x_np1, scheme);
   f = force_of_state<D>(g, s);
   const double h = 0.5 * g.volume;
   const NodeMatrix<D> Fa = s.F_mid * g.grad;
@@ -96,6 +113,11 @@ Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame, cons
 }
 
 #define CONSERVE_INSTANTIATE(D)                                                                                       \
+  template CellStart<D> cell_start<D>(const SimplexGeometry<D>&, const NodeMatrix<D>&);                              \
+  template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Lame&, const CellStart<D>&,    \
+                                           const NodeMatrix<D>&, StressScheme);                                      \
+  template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Lame&, const CellStart<D>&,     \
+                                          const NodeMatrix<D>&, StressScheme, NodeMatrix<D>&, ElementMatrix<D>&);    \
   template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Lame&, const StepPositions<D>&, \
                                            StressScheme);                                                             \
   template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Lame&, const StepPositions<D>&,  \

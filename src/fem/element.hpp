@@ -23,15 +23,34 @@ struct StepPositions {
   NodeMatrix<D> x_np1;
 };
 
+/// What the kernels use of a cell's start of step x_n: F_n and E_n =
+/// E(F_n). Every iterate of a step shares it.
+template <int D>
+struct CellStart {
+  Mat<D> F;
+  Mat<D> E;
+};
+
+template <int D>
+CellStart<D> cell_start(const SimplexGeometry<D>& g, const NodeMatrix<D>& x_n);
+
 /// Internal force f (column A = f_A) [N], paper (20) with ALGORITHM §2.
 template <int D>
 NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
                              StressScheme scheme);
+/// The same from the cell's start (cell_start(g, x_n)) and x_{n+1}: the
+/// same bits.
+template <int D>
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+                             const NodeMatrix<D>& x_np1, StressScheme scheme);
 
 /// Internal force and its tangent K = ∂f/∂x_{n+1}, dof order (A, i) → A·D+i.
 template <int D>
 void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
                             StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K);
+template <int D>
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+                            const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K);
 
 /// Stored energy W = V ρ0Ψ(E(F)) of the cell at positions x [J].
 template <int D>

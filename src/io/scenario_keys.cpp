@@ -122,7 +122,7 @@ SectionSpec solver_section() {
                       "gamg_from unknowns, gamg from there on)"},
               {.name = "gamg_from",
                .type = KeyType::integer,
-               .default_value = "200000",
+               .default_value = "2000000",
                .min = at_least(1),
                .doc = "preconditioner = \"auto\": unknowns from which gamg is used"},
               {.name = "max_linear_iterations",

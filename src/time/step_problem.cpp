@@ -20,11 +20,12 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
       dt_(dt),
       u_np1_(u_np1),
       K_(K),
-      elimination_(elimination) {
+      elimination_(elimination),
+      cells_n_(assembler.step_start(start.u)) {
   const Eigen::VectorXd momentum_term = (2.0 / dt) * assembler.mass_times(start.v);
   inertia_n_ = momentum_term + assembler.gravity_force();
   Eigen::VectorXd f_n;
-  assembler.internal_force(start.u, start.u, scheme, f_n);
+  assembler.internal_force(cells_n_, start.u, scheme, f_n);
   start_scale_ = std::max({momentum_term.norm(), assembler.gravity_force().norm(), f_n.norm()});
   force_scale_ = start_scale_;
   magnitude_n_ = (2.0 / dt) * assembler.mass_times(start.v.cwiseAbs()) + assembler.gravity_force().cwiseAbs() +
@@ -46,7 +47,7 @@ template <int D>
 void StepProblem<D>::residual(Eigen::VectorXd& r) {
   {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
-    assembler_.internal_force(start_.u, u_np1_, scheme_, f_int_, &magnitude_);
+    assembler_.internal_force(cells_n_, u_np1_, scheme_, f_int_, &magnitude_);
     du_ = u_np1_ - start_.u;
     g_ = (2.0 / (dt_ * dt_)) * assembler_.mass_times(du_) - inertia_n_ + f_int_;
     // Δu = u_{n+1} − u_n is exact only to ε(|u_{n+1}| + |u_n|): at small
@@ -76,7 +77,7 @@ template <int D>
 const SparseMatrix& StepProblem<D>::tangent() {
   {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
-    assembler_.internal_force_tangent(start_.u, u_np1_, scheme_, f_int_, K_);
+    assembler_.internal_force_tangent(cells_n_, u_np1_, scheme_, f_int_, K_);
   }
   const double c = 2.0 / (dt_ * dt_);
   const SparseMatrix& M = assembler_.mass();

@@ -62,6 +62,7 @@ class StepProblem final : public solver::NewtonProblem {
   Eigen::VectorXd& u_np1_;
   SparseMatrix& K_;
   contact::Elimination<D>* elimination_;
+  typename assembly::Assembler<D>::StepStart cells_n_;  ///< each cell's F_n, E_n
   SparseMatrix K_reduced_;
   assembly::DirichletMask reduced_mask_;
   Eigen::VectorXd inertia_n_;  ///< (2/Δt) M V_n + f_ext: the constant part
