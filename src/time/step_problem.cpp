@@ -111,12 +111,9 @@ void StepProblem<D>::update(const Eigen::VectorXd& increment) {
 
 template <int D>
 bool StepProblem<D>::revert() {
-  if (u_before_.size() != u_np1_.size()) return false;
+  if (u_before_.size() != u_np1_.size() || (eliminating() && !elimination_before_)) return false;
   u_np1_ = u_before_;
-  if (eliminating()) {
-    if (!elimination_before_) return false;
-    *elimination_ = *elimination_before_;
-  }
+  if (eliminating()) *elimination_ = *elimination_before_;  // assignment reuses the snapshot's storage
   return true;
 }
 
