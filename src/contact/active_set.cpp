@@ -26,12 +26,14 @@ void ActiveSet<D>::begin_step() {
 }
 
 template <int D>
+Elimination<D> ActiveSet<D>::elimination(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
+                                         std::shared_ptr<TangentReduction<D>> reduction) {
+  return Elimination<D>(model_.X, u_n, u, active_, pairs_, std::move(reduction));
+}
+
+template <int D>
 void ActiveSet<D>::set_constraints(std::vector<Constraint<D>> constraints) {
-  const bool same_set = constraints.size() == active_.size() &&
-                        std::equal(constraints.begin(), constraints.end(), active_.begin(),
-                                   [](const Constraint<D>& a, const Constraint<D>& b) { return a.slave == b.slave; });
   active_ = std::move(constraints);
-  if (same_set) return;  // the same slaves (the solve's own updates): flags and forces stand
   std::fill(is_active_.begin(), is_active_.end(), 0);
   for (const Constraint<D>& c : active_) is_active_[c.slave] = 1;
   normal_forces_.assign(active_.size(), 0.0);
@@ -99,19 +101,39 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
   return changed;
 }
 
+// One search of every slave at x_{n+1} serves two ends: the inactive
+// slaves found behind a master facet are activated, and the contact
+// geometry of the pass (deepest penetration, active gaps) is recorded by
+// the rules of max_penetration() and active_gaps(); when nothing changes,
+// this pass's u_{n+1} is the step's end and so is that geometry.
 template <int D>
 bool ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
   bool changed = false;
+  double deepest = 0.0, min_gap = inf, max_gap = -inf;
   for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
     ContactPair<D>& pair = pairs_[p];
     pair.tree.refit(x_np1);
     const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x_np1);
     std::vector<std::pair<std::size_t, Match<D>>> found;
+    std::vector<double> active_gap(pair.slave.nodes.size(), std::numeric_limits<double>::quiet_NaN());
     for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
       const int s = pair.slave.nodes[i];
-      if (is_active_[s] || prescribed_[s]) continue;
+      if (prescribed_[s]) continue;
       const auto match = search(pair, i, x_np1, normals[i]);
-      if (match && match->projection.gap < -pair.search.penetration_tolerance) found.emplace_back(i, *match);
+      if (!match) continue;
+      deepest = std::max(deepest, -match->projection.gap);
+      if (is_active_[s])
+        active_gap[i] = match->projection.gap;
+      else if (match->projection.gap < -pair.search.penetration_tolerance)
+        found.emplace_back(i, *match);
+    }
+    for (const Constraint<D>& c : active_) {
+      if (c.pair != p) continue;
+      double gap = active_gap[static_cast<std::size_t>(pair.slave.local_node(c.slave))];
+      if (std::isnan(gap)) gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pair.master, c.facet, x_np1)).gap;
+      min_gap = std::min(min_gap, gap);
+      max_gap = std::max(max_gap, gap);
     }
     for (const auto& [i, end] : found) {
       const int s = pair.slave.nodes[i];
@@ -125,6 +147,10 @@ bool ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions
       changed = true;
     }
   }
+  stats.max_penetration = deepest;
+  const bool none = min_gap > max_gap;
+  stats.min_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : min_gap;
+  stats.max_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : max_gap;
   return changed;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "contact/constraint.hpp"
+#include "contact/elimination.hpp"
 #include "model/model.hpp"
 
 namespace conserve::contact {
@@ -60,14 +61,25 @@ class ActiveSet {
   /// previous one.
   void begin_step();
 
+  /// The direct elimination of the active constraints for one solve of the
+  /// step u_n → u (u is not modified: call enforce()). It works on this
+  /// set's constraints, not on a copy: the facets, ξ, n and τ that its
+  /// updates move are the set's. The set must outlive it and must not be
+  /// updated while it is in use. `reduction` as in Elimination.
+  [[nodiscard]] Elimination<D> elimination(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
+                                           std::shared_ptr<TangentReduction<D>> reduction = nullptr);
+
   /// After a converged solve of u_n → u_{n+1} with full residual g: updates
-  /// the set; true if it changed (then solve the step again).
+  /// the set; true if it changed (then solve the step again). Sets the
+  /// stats' end-of-step geometry (max_penetration, active gaps) at u_{n+1}
+  /// for the set after its releases, from the same search as the
+  /// activations: when the set did not change, that is the step's end.
   bool update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
               StepContactStats& stats);
 
   /// Replaces the active set (restoring a checkpoint or a failed step's
-  /// start, or taking back the slave updates of a solve); the per-node
-  /// flags follow, the normal forces are zero until the next update.
+  /// start); the per-node flags follow, the normal forces are zero until
+  /// the next update.
   void set_constraints(std::vector<Constraint<D>> constraints);
 
   /// The deepest slave node behind a master facet at displacements u,

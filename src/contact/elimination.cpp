@@ -113,16 +113,16 @@ Eigen::Matrix<AD<N>, R, C> variables(const Eigen::Matrix<double, R, C>& x) {
 }  // namespace
 
 template <int D>
-Elimination<D>::Elimination(int num_nodes, const std::vector<Constraint<D>>& constraints)
-    : constraints_(constraints), num_nodes_(num_nodes), reduction_(std::make_shared<TangentReduction<D>>()) {
+Elimination<D>::Elimination(int num_nodes, std::vector<Constraint<D>>& constraints)
+    : constraints_(&constraints), num_nodes_(num_nodes), reduction_(std::make_shared<TangentReduction<D>>()) {
   build(nullptr);
 }
 
 template <int D>
 Elimination<D>::Elimination(const Positions<D>& X, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
-                            const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
+                            std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
                             std::shared_ptr<TangentReduction<D>> reduction)
-    : constraints_(constraints),
+    : constraints_(&constraints),
       pairs_(&pairs),
       X_(X),
       u_n_(u_n),
@@ -177,8 +177,8 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
 template <int D>
 void Elimination<D>::build(const Eigen::VectorXd* u) {
   std::vector<Local> locals;
-  locals.reserve(constraints_.size());
-  for (const Constraint<D>& k : constraints_) {
+  locals.reserve(constraints_->size());
+  for (const Constraint<D>& k : *constraints_) {
     if (u && pairs_) {
       locals.push_back(local(k, *u));
       continue;
@@ -195,14 +195,14 @@ void Elimination<D>::build(const Eigen::VectorXd* u) {
   for (const Local& l : locals) trial.push_back(&l.trial), test.push_back(&l.test);
   test_.clear();
   for (const Local& l : locals) test_.push_back(l.test);
-  RowBuilder<D> trial_builder(num_nodes_, constraints_, trial), test_builder(num_nodes_, constraints_, test);
-  const std::size_t count = constraints_.size();
+  RowBuilder<D> trial_builder(num_nodes_, *constraints_, trial), test_builder(num_nodes_, *constraints_, test);
+  const std::size_t count = constraints_->size();
   slave_of_.assign(num_nodes_, -1);
   slaves_.resize(count);
   trial_rows_.resize(count);
   test_rows_.resize(count);
   for (std::size_t c = 0; c < count; ++c) {
-    slaves_[c] = constraints_[c].slave;
+    slaves_[c] = (*constraints_)[c].slave;
     slave_of_[slaves_[c]] = static_cast<int>(c);
     trial_rows_[c] = trial_builder.rows(static_cast<int>(c));
     test_rows_[c] = test_builder.rows(static_cast<int>(c));
@@ -263,7 +263,7 @@ void Elimination<D>::add_variation_block(int c, int out, bool slip, int in, cons
 // W (outputs), node block by node block.
 template <int D>
 void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const {
-  const Constraint<D>& k = constraints_[c];
+  const Constraint<D>& k = (*constraints_)[c];
   const Kernel in = kernel_input(k, u_);
   if (k.kind == Kind::stick) {
     constexpr int N = D * D;  // inputs and outputs: the facet's nodes
@@ -294,12 +294,12 @@ template <int D>
 bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const {
   const bool new_pattern = reduction_->reduce(K, slave_rows(), K_r);  // Wᵀ K T (43), (58)
   // (44), (59): β = tr(K_ss)/D on the dummy slots.
-  for (std::size_t c = 0; c < constraints_.size(); ++c) {
+  for (std::size_t c = 0; c < constraints_->size(); ++c) {
     const int s = slaves_[c];
     double trace = 0.0;
     for (int i = 0; i < D; ++i) trace += K.coeff(s * D + i, s * D + i);
     Mat<D> beta = Mat<D>::Zero();
-    for (int j = (constraints_[c].kind == Kind::frictionless ? D - 1 : 0); j < D; ++j) beta(j, j) = trace / D;
+    for (int j = ((*constraints_)[c].kind == Kind::frictionless ? D - 1 : 0); j < D; ++j) beta(j, j) = trace / D;
     reduction_->add(static_cast<int>(c), s, s, beta, K_r);
   }
   if (!pairs_ || u_.size() != g.size()) return new_pattern;
@@ -308,14 +308,14 @@ bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd
   // of another constraint), accumulated from the outer end of the chains.
   Eigen::VectorXd passed = g;
   for (auto c = order_.rbegin(); c != order_.rend(); ++c) {
-    const Constraint<D>& k = constraints_[*c];
+    const Constraint<D>& k = (*constraints_)[*c];
     const Coefficients& l = test_[*c];
     const Vec<D> gs = passed.template segment<D>(k.slave * D);
     for (std::size_t a = 0; a < l.nodes.size(); ++a)
       if (slave_of_[l.nodes[a]] >= 0)
         passed.template segment<D>(l.nodes[a] * D) += l.master.middleCols(a * D, D).transpose() * gs;
   }
-  for (std::size_t c = 0; c < constraints_.size(); ++c)
+  for (std::size_t c = 0; c < constraints_->size(); ++c)
     add_variation(static_cast<int>(c), passed.template segment<D>(slaves_[c] * D), K_r);
   return new_pattern;
 }
@@ -386,8 +386,8 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
   if (!pairs_) throw Error("Elimination::enforce needs the step's geometry (the geometry constructor)");
   Positions<D> x = positions(u), x_mid = 0.5 * (x + positions(u_n_));
   for (int sweep = 0; sweep < 2; ++sweep) {  // a second sweep settles chains
-    for (std::size_t c = 0; c < constraints_.size(); ++c) {
-      Constraint<D>& k = constraints_[c];
+    for (std::size_t c = 0; c < constraints_->size(); ++c) {
+      Constraint<D>& k = (*constraints_)[c];
       if (k.kind == Kind::stick) {  // (45): the slave at its point of the facet's frame
         zero_work::Facet<D, double> xm;
         for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
@@ -398,9 +398,29 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
       }
     }
   }
-  for (const Constraint<D>& k : constraints_)
+  for (const Constraint<D>& k : *constraints_)
     u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
   build(&u);
+}
+
+template <int D>
+void Elimination<D>::save(std::optional<Saved>& saved) const {
+  if (!saved) {
+    saved.emplace(Saved{*this, *constraints_});
+    return;
+  }
+  saved->maps = *this;  // assignments reuse the storage of the last save
+  saved->constraints = *constraints_;
+}
+
+template <int D>
+void Elimination<D>::restore(const Saved& saved) {
+  if (saved.constraints.size() != constraints_->size())
+    throw Error("Elimination::restore: the saved constraints are another active set");
+  std::vector<Constraint<D>>* constraints = constraints_;
+  *this = saved.maps;
+  constraints_ = constraints;
+  *constraints_ = saved.constraints;
 }
 
 template <int D>

@@ -20,6 +20,7 @@
 /// slave (a chain) is expanded by substitution in both maps (V is then
 /// taken to first order through the chained rows); a cycle is refused.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "contact/constraint.hpp"
@@ -33,20 +34,34 @@ class Elimination {
   /// Maps from the constraints' stored ξ and τ alone, as if every slave
   /// were on its facet (γ = 0: the paper's (35), (49), (41), (56)); no
   /// geometry, V = 0. For tests of the maps.
-  Elimination(int num_nodes, const std::vector<Constraint<D>>& constraints);
+  Elimination(int num_nodes, std::vector<Constraint<D>>& constraints);
 
   /// The elimination of one step from u_n (`pairs` must outlive it) at the
-  /// iterate u, which is not modified (call enforce()). `reduction`: the
+  /// iterate u, which is not modified (call enforce()). The constraints
+  /// belong to the caller (the active set) and must outlive the
+  /// elimination: it keeps no copy, and enforce() and update() move their
+  /// facets, ξ, n and τ in place. `reduction`: the
   /// reduced tangent's pattern and maps, shared with the eliminations of
   /// earlier passes and steps so that they are rebuilt (and a solver's
   /// analysis redone) only when the constraints' nodes change; a new one
   /// if null.
   Elimination(const Positions<D>& X, const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
-              const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
+              std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
               std::shared_ptr<TangentReduction<D>> reduction = nullptr);
 
-  [[nodiscard]] bool empty() const { return constraints_.empty(); }
-  [[nodiscard]] const std::vector<Constraint<D>>& constraints() const { return constraints_; }
+  Elimination(Elimination&&) noexcept = default;
+  Elimination& operator=(Elimination&&) noexcept = default;
+
+  [[nodiscard]] bool empty() const { return constraints_->empty(); }
+  [[nodiscard]] const std::vector<Constraint<D>>& constraints() const { return *constraints_; }
+
+  /// What update() changes, the maps and the constraints' facets, ξ, n
+  /// and τ, kept for a line search to go back to.
+  struct Saved;
+  /// Copies it into `saved` (reusing its storage).
+  void save(std::optional<Saved>& saved) const;
+  /// Back to what save() kept; the constraints must be the same slaves.
+  void restore(const Saved& saved);
   /// The trial map T, ndof × ndof (assembled on request: the reduction
   /// works with the slaves' rows).
   [[nodiscard]] SparseMatrix map() const { return assemble(trial_rows_); }
@@ -86,6 +101,11 @@ class Elimination {
   };
 
  private:
+  /// A copy would work on the same constraints: only save() makes one,
+  /// together with a copy of them.
+  Elimination(const Elimination&) = default;
+  Elimination& operator=(const Elimination&) = default;
+
   struct Local {
     Coefficients trial, test;
   };
@@ -112,7 +132,7 @@ class Elimination {
   void add_variation_block(int c, int out, bool slip, int in, const Mat<D>& G, SparseMatrix& K_r) const;
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
 
-  std::vector<Constraint<D>> constraints_;
+  std::vector<Constraint<D>>* constraints_;  ///< the caller's (the active set's)
   const std::vector<ContactPair<D>>* pairs_ = nullptr;
   Positions<D> X_;
   Eigen::VectorXd u_n_, u_;  ///< start of the step; the iterate the maps belong to
@@ -125,6 +145,12 @@ class Elimination {
   std::shared_ptr<TangentReduction<D>> reduction_;   ///< K_r's pattern and maps, kept while the nodes are unchanged
   static constexpr int kMaxSwitches = 2;
   std::vector<int> switches_;  ///< facet switches per constraint in this solve
+};
+
+template <int D>
+struct Elimination<D>::Saved {
+  Elimination<D> maps;
+  std::vector<Constraint<D>> constraints;
 };
 
 }  // namespace conserve::contact

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
+#include <optional>
 
 #include "core/error.hpp"
 #include "time/step_problem.hpp"
@@ -41,22 +41,23 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   if (contacts_) contacts_->begin_step();
   solver::NewtonReport total;
   for (bool again = true; again;) {
-    static const std::vector<contact::ContactPair<D>> no_pairs;
-    const auto start = std::chrono::steady_clock::now();
-    contact::Elimination<D> elimination(assembler_.model().X, state.u, u_np1,
-                                        contacts_ ? contacts_->constraints() : std::vector<contact::Constraint<D>>{},
-                                        contacts_ ? contacts_->pairs() : no_pairs, reduction_);
-    if (!elimination.empty()) elimination.enforce(u_np1);
-    timings_.elimination += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, &elimination);
+    // The elimination works on the active set's constraints: the updates
+    // of the solve move their facets, ξ, n and τ there.
+    std::optional<contact::Elimination<D>> elimination;
+    if (contacts_) {
+      solver::ScopedTimer timer(timings_.elimination);
+      elimination.emplace(contacts_->elimination(state.u, u_np1, reduction_));
+      if (!elimination->empty()) elimination->enforce(u_np1);
+    }
+    const bool plain = !elimination || elimination->empty();
+    StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, elimination ? &*elimination : nullptr);
     problem.set_timings(&timings_);
     // A factorization of the plain system stays usable while no constraint
     // is active; a reduced system's T changes from pass to pass.
     const int setups = timings_.linear_setups;
     const solver::NewtonReport report =
-        solver::solve_newton(problem, *solver_, newton_, elimination.empty() && plain_factorization_,
-                             &nonlinearity_);
-    if (timings_.linear_setups != setups) plain_factorization_ = elimination.empty();
+        solver::solve_newton(problem, *solver_, newton_, plain && plain_factorization_, &nonlinearity_);
+    if (timings_.linear_setups != setups) plain_factorization_ = plain;
     if (!report.converged) throw SolverError(not_converged(report, state.step + 1, t_np1));
     total.converged = true;
     total.iterations += report.iterations;
@@ -65,7 +66,6 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     total.residual_norms = report.residual_norms;
     total.tolerance = report.tolerance;
     total.floor = report.floor;
-    if (contacts_) contacts_->set_constraints(elimination.constraints());  // facets, ξ moved by the updates
     {
       solver::ScopedTimer timer(timings_.contact_search);
       again = contacts_ && contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
@@ -77,13 +77,6 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
           state.step + 1, t_np1, stats_.passes, stats_.activations, stats_.releases));
   }
   check_orientation(u_np1, state.step + 1, t_np1);
-  if (contacts_) {
-    solver::ScopedTimer timer(timings_.contact_search);
-    stats_.max_penetration = contacts_->max_penetration(u_np1).depth;
-    const contact::ActiveGaps gaps = contacts_->active_gaps(u_np1);
-    stats_.min_active_gap = gaps.min;
-    stats_.max_active_gap = gaps.max;
-  }
   state.v = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
   state.u = std::move(u_np1);
   state.time = t_np1;

@@ -102,7 +102,7 @@ void StepProblem<D>::update(const Eigen::VectorXd& increment) {
   u_before_ = u_np1_;
   if (eliminating()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
-    elimination_before_ = *elimination_;
+    elimination_->save(elimination_before_);
     elimination_->update(increment, u_np1_);  // (45), (60)–(64)
   } else {
     u_np1_ += increment;
@@ -113,7 +113,7 @@ template <int D>
 bool StepProblem<D>::revert() {
   if (u_before_.size() != u_np1_.size() || (eliminating() && !elimination_before_)) return false;
   u_np1_ = u_before_;
-  if (eliminating()) *elimination_ = *elimination_before_;  // assignment reuses the snapshot's storage
+  if (eliminating()) elimination_->restore(*elimination_before_);
   return true;
 }
 

@@ -69,7 +69,7 @@ class StepProblem final : public solver::NewtonProblem {
   Eigen::VectorXd magnitude_n_;  ///< (2/Δt) M |V_n| + |f_ext| + the unit-strain forces: constant magnitudes
   Eigen::VectorXd f_int_, g_, du_, magnitude_;
   Eigen::VectorXd u_before_;  ///< the iterate before the last update (revert)
-  std::optional<contact::Elimination<D>> elimination_before_;  ///< the elimination before it
+  std::optional<typename contact::Elimination<D>::Saved> elimination_before_;  ///< the elimination before it
   double start_scale_ = 0.0, force_scale_ = 0.0;
   double energy_n_ = 0.0;  ///< K_n + W_n + |Π_n| [J]
   double motion_ = 0.0;    ///< |Δu| over the free dofs at the last residual [m]

@@ -34,7 +34,8 @@ Eigen::VectorXd random_vector(int n, unsigned seed) {
 }
 
 TEST(Elimination, StickSlaveFollowsItsMasterPoint) {
-  const Elimination<3> e(8, {stick(0, {1, 2, 3}, 0.2, 0.3)});
+  std::vector<Constraint<3>> constraints{stick(0, {1, 2, 3}, 0.2, 0.3)};
+  const Elimination<3> e(8, constraints);
   const Eigen::VectorXd q = random_vector(24, 1);
   Eigen::VectorXd du;
   e.expand(q, du);
@@ -47,7 +48,8 @@ TEST(Elimination, FrictionlessSlaveSlidesAlongTangents) {
   Constraint<3> c = stick(0, {1, 2, 3}, 0.2, 0.3);
   c.kind = Kind::frictionless;
   c.tangents << 1, 0, 0, 1, 0, 0;  // τ_ξ = x̂, τ_η = ŷ
-  const Elimination<3> e(4, {c});
+  std::vector<Constraint<3>> constraints{c};
+  const Elimination<3> e(4, constraints);
   const Eigen::VectorXd q = random_vector(12, 2);
   Eigen::VectorXd du;
   e.expand(q, du);
@@ -58,7 +60,8 @@ TEST(Elimination, FrictionlessSlaveSlidesAlongTangents) {
 
 TEST(Elimination, ChainsAreComposed) {
   // Node 0 is a slave on (1, 2, 3); node 1 is itself a slave on (4, 5, 6).
-  const Elimination<3> e(7, {stick(0, {1, 2, 3}, 0.25, 0.25), stick(1, {4, 5, 6}, 0.1, 0.6)});
+  std::vector<Constraint<3>> constraints{stick(0, {1, 2, 3}, 0.25, 0.25), stick(1, {4, 5, 6}, 0.1, 0.6)};
+  const Elimination<3> e(7, constraints);
   const Eigen::VectorXd q = random_vector(21, 3);
   Eigen::VectorXd du;
   e.expand(q, du);
@@ -69,14 +72,16 @@ TEST(Elimination, ChainsAreComposed) {
 }
 
 TEST(Elimination, CyclesAreRefused) {
-  EXPECT_THAT([] { Elimination<3>(7, {stick(0, {1, 2, 3}, 0.2, 0.2), stick(1, {0, 5, 6}, 0.2, 0.2)}); },
-              ::testing::ThrowsMessage<SolverError>(::testing::HasSubstr("cycle")));
-  EXPECT_THROW(Elimination<3>(7, {stick(0, {1, 2, 3}, 0.2, 0.2), stick(0, {4, 5, 6}, 0.2, 0.2)}), SolverError);
+  std::vector<Constraint<3>> cycle{stick(0, {1, 2, 3}, 0.2, 0.2), stick(1, {0, 5, 6}, 0.2, 0.2)};
+  EXPECT_THAT([&] { Elimination<3>(7, cycle); }, ::testing::ThrowsMessage<SolverError>(::testing::HasSubstr("cycle")));
+  std::vector<Constraint<3>> twice{stick(0, {1, 2, 3}, 0.2, 0.2), stick(0, {4, 5, 6}, 0.2, 0.2)};
+  EXPECT_THROW(Elimination<3>(7, twice), SolverError);
 }
 
 // (41): slave rows vanish, master rows get Nᵀ g_s, the others are untouched.
 TEST(Elimination, ReducedResidualIsPaperEquation41) {
-  const Elimination<3> e(5, {stick(0, {1, 2, 3}, 0.2, 0.3)});
+  std::vector<Constraint<3>> constraints{stick(0, {1, 2, 3}, 0.2, 0.3)};
+  const Elimination<3> e(5, constraints);
   const Eigen::VectorXd g = random_vector(15, 4);
   Eigen::VectorXd r;
   e.reduce_residual(g, r);
@@ -89,7 +94,8 @@ TEST(Elimination, ReducedResidualIsPaperEquation41) {
 
 // (43)–(44): K_r = Tᵀ K T with β = tr(K_ss)/D on the slave's dummy diagonal.
 TEST(Elimination, ReducedTangentHasBetaOnDummyRows) {
-  const Elimination<3> e(5, {stick(0, {1, 2, 3}, 0.2, 0.3)});
+  std::vector<Constraint<3>> constraints{stick(0, {1, 2, 3}, 0.2, 0.3)};
+  const Elimination<3> e(5, constraints);
   Eigen::MatrixXd Kd = Eigen::MatrixXd::Random(15, 15) + 10.0 * Eigen::MatrixXd::Identity(15, 15);
   const SparseMatrix K = Kd.sparseView();
   SparseMatrix Kr;
@@ -158,7 +164,8 @@ Eigen::MatrixXd product_formula(const Elimination<D>& e, const SparseMatrix& K) 
 template <int D>
 void check_reduced_tangent_against_products() {
   constexpr int kNodes = D == 3 ? 11 : 9;
-  const Elimination<D> e(kNodes, chained_constraints<D>());
+  std::vector<Constraint<D>> constraints = chained_constraints<D>();
+  const Elimination<D> e(kNodes, constraints);
   for (const bool node_blocks : {true, false}) {
     const SparseMatrix K = random_tangent<D>(kNodes, node_blocks, 5);
     SparseMatrix Kr;
@@ -184,7 +191,8 @@ TEST(Elimination, ReducedTangentEqualsTheProducts2d) { check_reduced_tangent_aga
 // New values in the same pattern: K_r keeps its storage and pattern (a
 // solver's symbolic analysis stays valid); a new pattern of K is followed.
 TEST(Elimination, ReducedTangentKeepsItsPattern) {
-  const Elimination<3> e(11, chained_constraints<3>());
+  std::vector<Constraint<3>> constraints = chained_constraints<3>();
+  const Elimination<3> e(11, constraints);
   const Eigen::VectorXd g = Eigen::VectorXd::Zero(33);
   SparseMatrix K = random_tangent<3>(11, true, 6), Kr;
   EXPECT_TRUE(e.reduce_tangent(K, g, Kr));  // K_r given its pattern
