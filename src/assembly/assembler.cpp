@@ -109,6 +109,12 @@ void Assembler<D>::internal_force(const StepStart& start, const Eigen::VectorXd&
                                   Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
   f.setZero(model_.num_dofs());
   if (magnitude) magnitude->setZero(model_.num_dofs());
+  add_internal_force(start, u_np1, scheme, f, magnitude);
+}
+
+template <int D>
+void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                                      Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
   for_each_coloured(colouring_, [&](int c) {
     const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
                                                          cell_positions(c, u_np1), scheme);
@@ -129,13 +135,26 @@ void Assembler<D>::internal_force_tangent(const StepStart& start, const Eigen::V
                                           fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const {
   f.setZero(model_.num_dofs());
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  add_tangent(start, u_np1, scheme, &f, K);
+}
+
+template <int D>
+void Assembler<D>::add_internal_force_derivative(const StepStart& start, const Eigen::VectorXd& u_np1,
+                                                 fem::StressScheme scheme, SparseMatrix& K) const {
+  add_tangent(start, u_np1, scheme, nullptr, K);
+}
+
+template <int D>
+void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                               Eigen::VectorXd* f, SparseMatrix& K) const {
   double* values = K.valuePtr();
   for_each_coloured(colouring_, [&](int c) {
     fem::NodeMatrix<D> fe;
     fem::ElementMatrix<D> Ke;
     fem::internal_force_tangent<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
                                    cell_positions(c, u_np1), scheme, fe, Ke);
-    for (int a = 0; a <= D; ++a) f.segment<D>(model_.cells(a, c) * D) += fe.col(a);
+    if (f)
+      for (int a = 0; a <= D; ++a) f->segment<D>(model_.cells(a, c) * D) += fe.col(a);
     pattern_.add_cell_matrix(c, Ke, values);
   });
 }

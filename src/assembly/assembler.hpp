@@ -47,6 +47,10 @@ class Assembler {
   /// Σ_cells |f_cell| per dof (what the sum cancelled, for round-off bounds).
   void internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                       Eigen::VectorXd& f, Eigen::VectorXd* magnitude = nullptr) const;
+  /// Adds the internal force to f (and Σ_cells |f_cell| to `magnitude`):
+  /// what internal_force() computes into zeroed vectors.
+  void add_internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                          Eigen::VectorXd& f, Eigen::VectorXd* magnitude = nullptr) const;
   /// The same from u_n (step_start(u_n) made for this call): the same bits.
   void internal_force(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                       Eigen::VectorXd& f, Eigen::VectorXd* magnitude = nullptr) const;
@@ -62,6 +66,9 @@ class Assembler {
                               Eigen::VectorXd& f, SparseMatrix& K) const;
   void internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                               Eigen::VectorXd& f, SparseMatrix& K) const;
+  /// Adds ∂f/∂u_{n+1} to K (the pattern's layout) and nothing else.
+  void add_internal_force_derivative(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                                     SparseMatrix& K) const;
 
   /// The smallest det F over the cells at displacements u, and its cell
   /// (the lowest such cell on ties).
@@ -75,6 +82,9 @@ class Assembler {
 
  private:
   [[nodiscard]] const material::Lame& lame(int cell) const { return model_.bodies[model_.cell_body[cell]].lame; }
+  /// K += ∂f/∂u_{n+1} and, if given, f += the internal force.
+  void add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme, Eigen::VectorXd* f,
+                   SparseMatrix& K) const;
   const model::Model<D>& model_;
   BlockPattern<D> pattern_;
   CellColouring colouring_;

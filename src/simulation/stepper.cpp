@@ -5,7 +5,6 @@
 #include "simulation/contact_setup.hpp"
 
 namespace conserve::simulation {
-namespace {
 
 solver::NewtonSettings newton_settings(const io::NewtonSpec& n, const io::SolverSpec& s) {
   return {.max_iterations = n.max_iterations,
@@ -25,6 +24,8 @@ solver::LinearSolverSettings linear_settings(const io::SolverSpec& s) {
   l.petsc_options = s.petsc_options;
   return l;
 }
+
+namespace {
 
 fem::StressScheme stress_scheme(io::StressScheme s) {
   return s == io::StressScheme::midpoint ? fem::StressScheme::midpoint : fem::StressScheme::conserving;

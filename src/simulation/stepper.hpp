@@ -16,6 +16,12 @@
 
 namespace conserve::simulation {
 
+/// The Newton and linear-solver settings of a scenario's [newton] and
+/// [solver] tables: the one mapping, used by the Stepper and by tests that
+/// drive the time layer with the program's defaults.
+[[nodiscard]] solver::NewtonSettings newton_settings(const io::NewtonSpec& newton, const io::SolverSpec& solver);
+[[nodiscard]] solver::LinearSolverSettings linear_settings(const io::SolverSpec& solver);
+
 /// What one step did, for the history.
 struct StepRecord {
   solver::NewtonReport newton;

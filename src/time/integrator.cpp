@@ -25,6 +25,7 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
       newton_(newton),
       mask_(assembler.mass(), assembler.model().prescribed.dofs),
       K_(assembler.pattern().make_matrix()),
+      terms_(elastodynamic_terms(assembler, scheme)),
       contacts_(contacts && !contacts->empty() ? contacts : nullptr),
       max_passes_(max_passes),
       solver_(solver::make_linear_solver(linear, assembler.model().num_dofs())) {
@@ -38,6 +39,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   Eigen::VectorXd u_np1 = predictor(state, dt);
   apply_prescribed(assembler_.model().prescribed, t_np1, u_np1);
   stats_ = {};
+  for (const auto& term : terms_) term->begin(state, dt);
   if (contacts_) contacts_->begin_step();
   solver::NewtonReport total;
   for (bool again = true; again;) {
@@ -50,7 +52,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
       if (!elimination->empty()) elimination->enforce(u_np1);
     }
     const bool plain = !elimination || elimination->empty();
-    StepProblem<D> problem(assembler_, mask_, scheme_, state, dt, u_np1, K_, elimination ? &*elimination : nullptr);
+    StepProblem<D> problem(assembler_, mask_, terms_, state, dt, u_np1, K_, elimination ? &*elimination : nullptr);
     problem.set_timings(&timings_);
     // A factorization of the plain system stays usable while no constraint
     // is active; a reduced system's T changes from pass to pass.

@@ -11,6 +11,7 @@
 #include "contact/tangent_reduction.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
+#include "time/step_terms.hpp"
 
 namespace conserve::time {
 
@@ -56,6 +57,7 @@ class Integrator {
   solver::NewtonSettings newton_;
   assembly::DirichletMask mask_;
   SparseMatrix K_;
+  StepTerms<D> terms_;  ///< the step's residual is their sum
   contact::ActiveSet<D>* contacts_;
   /// The reduced tangent's pattern, kept across passes and steps while the
   /// constraints' nodes do not change.

@@ -11,27 +11,43 @@ constexpr double kRoundOff = 32 * 2.2e-16;
 
 template <int D>
 StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
-                            fem::StressScheme scheme, const model::State& start, double dt, Eigen::VectorXd& u_np1,
+                            StepTerms<D>& terms, const model::State& start, double dt, Eigen::VectorXd& u_np1,
                             SparseMatrix& K, contact::Elimination<D>* elimination)
     : assembler_(assembler),
       mask_(mask),
-      scheme_(scheme),
+      terms_(terms),
       start_(start),
       dt_(dt),
       u_np1_(u_np1),
       K_(K),
-      elimination_(elimination),
-      cells_n_(assembler.step_start(start.u)) {
-  const Eigen::VectorXd momentum_term = (2.0 / dt) * assembler.mass_times(start.v);
-  inertia_n_ = momentum_term + assembler.gravity_force();
-  Eigen::VectorXd f_n;
-  assembler.internal_force(cells_n_, start.u, scheme, f_n);
-  start_scale_ = std::max({momentum_term.norm(), assembler.gravity_force().norm(), f_n.norm()});
+      elimination_(elimination) {
+  take_scales();
+}
+
+template <int D>
+StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
+                            fem::StressScheme scheme, const model::State& start, double dt, Eigen::VectorXd& u_np1,
+                            SparseMatrix& K, contact::Elimination<D>* elimination)
+    : own_terms_(elastodynamic_terms(assembler, scheme)),
+      assembler_(assembler),
+      mask_(mask),
+      terms_(own_terms_),
+      start_(start),
+      dt_(dt),
+      u_np1_(u_np1),
+      K_(K),
+      elimination_(elimination) {
+  for (const auto& term : terms_) term->begin(start, dt);
+  take_scales();
+}
+
+template <int D>
+void StepProblem<D>::take_scales() {
+  for (const auto& term : terms_) {
+    start_scale_ = std::max(start_scale_, term->start_force());
+    energy_n_ += term->start_energy();
+  }
   force_scale_ = start_scale_;
-  magnitude_n_ = (2.0 / dt) * assembler.mass_times(start.v.cwiseAbs()) + assembler.gravity_force().cwiseAbs() +
-                 assembler.stiffness_scale();
-  energy_n_ = 0.25 * dt * start.v.dot(momentum_term) + assembler.strain_energy(start.u) +
-              std::abs(assembler.gravity_force().dot(start.u));
 }
 
 template <int D>
@@ -47,14 +63,12 @@ template <int D>
 void StepProblem<D>::residual(Eigen::VectorXd& r) {
   {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
-    assembler_.internal_force(cells_n_, u_np1_, scheme_, f_int_, &magnitude_);
-    du_ = u_np1_ - start_.u;
-    g_ = (2.0 / (dt_ * dt_)) * assembler_.mass_times(du_) - inertia_n_ + f_int_;
-    // Δu = u_{n+1} − u_n is exact only to ε(|u_{n+1}| + |u_n|): at small
-    // steps the inertia term amplifies that by 2/Δt².
-    magnitude_ += (2.0 / (dt_ * dt_)) * assembler_.mass_times(u_np1_.cwiseAbs() + start_.u.cwiseAbs()) + magnitude_n_;
+    g_.setZero(u_np1_.size());
+    magnitude_.setZero(u_np1_.size());
+    for (const auto& term : terms_) term->add_value(u_np1_, g_, magnitude_);
     mask_.apply(magnitude_);
     floor_ = kRoundOff * magnitude_.norm();
+    du_ = u_np1_ - start_.u;
     Eigen::VectorXd free_motion = du_;  // the prescribed dofs' residual is masked: it does no work
     mask_.apply(free_motion);
     motion_ = free_motion.norm();
@@ -77,13 +91,12 @@ template <int D>
 const SparseMatrix& StepProblem<D>::tangent() {
   {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
-    assembler_.internal_force_tangent(cells_n_, u_np1_, scheme_, f_int_, K_);
+    std::fill(K_.valuePtr(), K_.valuePtr() + K_.nonZeros(), 0.0);
+    for (const auto& term : terms_) term->add_derivative(u_np1_, K_);
   }
-  const double c = 2.0 / (dt_ * dt_);
-  const SparseMatrix& M = assembler_.mass();
-  Eigen::Map<Eigen::VectorXd>(K_.valuePtr(), K_.nonZeros()) +=
-      c * Eigen::Map<const Eigen::VectorXd>(M.valuePtr(), M.nonZeros());
-  const double diagonal = c * M.diagonal().mean();
+  // Prescribed rows get the inertia's mean diagonal: of the order of the
+  // others, whatever the stiffness.
+  const double diagonal = 2.0 / (dt_ * dt_) * assembler_.mass().diagonal().mean();
   if (!eliminating()) {
     mask_.apply(K_, diagonal);
     return K_;

@@ -1,11 +1,11 @@
 #pragma once
 /// One step of the energy–momentum conserving mid-point scheme as a Newton
-/// problem in u_{n+1} (paper (19)–(20)):
-///   g(u_{n+1}) = (2/Δt²) M Δu − (2/Δt) M V_n + f_int(u_n, u_{n+1}) − f_ext
-/// With active contact constraints the unknowns are the reduced q of the
-/// direct elimination (Δu = T q, r = Tᵀ g, K_r = Tᵀ K T + β); without,
-/// q = Δu. Prescribed dofs carry their prescribed value; their rows are
-/// trivial.
+/// problem in u_{n+1} (paper (19)–(20)): the residual g(u_{n+1}) is the sum
+/// of the step's terms (time/step_terms.hpp; inertia, internal force, body
+/// force), the tangent the sum of their derivatives. With active contact
+/// constraints the unknowns are the reduced q of the direct elimination
+/// (Δu = T q, r = Wᵀ g, K_r = Wᵀ K T + V + β); without, q = Δu. Prescribed
+/// dofs carry their prescribed value; their rows are trivial.
 #include <optional>
 
 #include "assembly/assembler.hpp"
@@ -14,15 +14,21 @@
 #include "model/state.hpp"
 #include "solver/newton.hpp"
 #include "solver/timings.hpp"
+#include "time/step_terms.hpp"
 
 namespace conserve::time {
 
 template <int D>
 class StepProblem final : public solver::NewtonProblem {
  public:
-  /// `u_np1` holds the predictor on entry and the iterate throughout;
-  /// `K` has the assembler's pattern and is overwritten. `elimination`
-  /// may be null (no active constraint).
+  /// `terms` have begun the step from `start` with this Δt and must
+  /// outlive the problem. `u_np1` holds the predictor on entry and the
+  /// iterate throughout; `K` has the assembler's pattern and is
+  /// overwritten. `elimination` may be null (no active constraint).
+  StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, StepTerms<D>& terms,
+              const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K,
+              contact::Elimination<D>* elimination = nullptr);
+  /// With its own elastodynamic terms (time/step_terms.hpp), begun here.
   StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, fem::StressScheme scheme,
               const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K,
               contact::Elimination<D>* elimination = nullptr);
@@ -54,24 +60,24 @@ class StepProblem final : public solver::NewtonProblem {
 
  private:
   [[nodiscard]] bool eliminating() const { return elimination_ && !elimination_->empty(); }
+  /// The largest of the terms' start forces and the sum of their energies.
+  void take_scales();
+  StepTerms<D> own_terms_;  ///< the terms, if the problem made its own
   const assembly::Assembler<D>& assembler_;
   const assembly::DirichletMask& mask_;
-  fem::StressScheme scheme_;
+  StepTerms<D>& terms_;
   const model::State& start_;
   double dt_;
   Eigen::VectorXd& u_np1_;
   SparseMatrix& K_;
   contact::Elimination<D>* elimination_;
-  typename assembly::Assembler<D>::StepStart cells_n_;  ///< each cell's F_n, E_n
   SparseMatrix K_reduced_;
   assembly::DirichletMask reduced_mask_;
-  Eigen::VectorXd inertia_n_;  ///< (2/Δt) M V_n + f_ext: the constant part
-  Eigen::VectorXd magnitude_n_;  ///< (2/Δt) M |V_n| + |f_ext| + the unit-strain forces: constant magnitudes
-  Eigen::VectorXd f_int_, g_, du_, magnitude_;
+  Eigen::VectorXd g_, du_, magnitude_;
   Eigen::VectorXd u_before_;  ///< the iterate before the last update (revert)
   std::optional<typename contact::Elimination<D>::Saved> elimination_before_;  ///< the elimination before it
   double start_scale_ = 0.0, force_scale_ = 0.0;
-  double energy_n_ = 0.0;  ///< K_n + W_n + |Π_n| [J]
+  double energy_n_ = 0.0;  ///< the terms' energies at the start: K_n + W_n + |Π_n| [J]
   double motion_ = 0.0;    ///< |Δu| over the free dofs at the last residual [m]
   double floor_ = 0.0;
   solver::Timings* timings_ = nullptr;

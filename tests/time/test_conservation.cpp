@@ -8,6 +8,7 @@
 #include "model/initial_state.hpp"
 #include "support/grid_mesh.hpp"
 #include "time/diagnostics.hpp"
+#include "simulation/stepper.hpp"
 #include "time/integrator.hpp"
 
 namespace conserve::time {
@@ -32,13 +33,16 @@ model::Model<D> free_body_model(const Vec3& gravity) {
 }
 
 template <int D>
-Drift run_free_body(fem::StressScheme scheme, const Vec3& gravity, int steps, bool reuse = false,
+Drift run_free_body(fem::StressScheme scheme, const Vec3& gravity, int steps, bool reuse = true,
                     int* factorizations = nullptr, solver::Method method = solver::Method::krylov) {
   const model::Model<D> model = free_body_model<D>(gravity);
   const assembly::Assembler<D> assembler(model, false);
-  solver::NewtonSettings newton{25, 1e-12, 1e-13};
+  // The program's defaults ([newton], [solver]), with what this test varies.
+  solver::NewtonSettings newton = simulation::newton_settings(io::NewtonSpec{}, io::SolverSpec{});
+  newton.max_iterations = 25;
+  newton.floor_limit = 1e-13;
   newton.modified_newton = reuse;
-  solver::LinearSolverSettings linear;
+  solver::LinearSolverSettings linear = simulation::linear_settings(io::SolverSpec{});
   linear.method = method;
   Integrator<D> integrator(assembler, scheme, newton, nullptr, 10, linear);
   model::State state = model::rest_state<D>(model);
@@ -108,7 +112,11 @@ TEST(Conservation, Gravity2d) {
 TEST(Predictor, RigidFlightUnderGravityConvergesAtThePredictor) {
   const model::Model<3> model = free_body_model<3>(Vec3(0.0, 0.0, -9.81));
   const assembly::Assembler<3> assembler(model, false);
-  Integrator<3> integrator(assembler, fem::StressScheme::conserving, solver::NewtonSettings{25, 1e-12, 1e-13});
+  solver::NewtonSettings newton = simulation::newton_settings(io::NewtonSpec{}, io::SolverSpec{});
+  newton.max_iterations = 25;
+  newton.floor_limit = 1e-13;
+  Integrator<3> integrator(assembler, fem::StressScheme::conserving, newton, nullptr, 10,
+                           simulation::linear_settings(io::SolverSpec{}));
   model::State state = model::rest_state<3>(model);
   model::InitialMotion motion;
   motion.velocity << 1.0, 0.5, 2.0;

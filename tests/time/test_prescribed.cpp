@@ -7,10 +7,19 @@
 #include "model/initial_state.hpp"
 #include "support/grid_mesh.hpp"
 #include "time/diagnostics.hpp"
+#include "simulation/stepper.hpp"
 #include "time/integrator.hpp"
 
 namespace conserve::time {
 namespace {
+
+/// An integrator with the settings `conserve run` uses by default.
+template <int D>
+Integrator<D> default_integrator(const assembly::Assembler<D>& assembler) {
+  return Integrator<D>(assembler, fem::StressScheme::conserving,
+                       simulation::newton_settings(io::NewtonSpec{}, io::SolverSpec{}), nullptr, 10,
+                       simulation::linear_settings(io::SolverSpec{}));
+}
 
 template <int D>
 model::Model<D> cantilever(double rate) {
@@ -33,7 +42,7 @@ template <int D>
 void check_fixed_support_conserves_energy() {
   const model::Model<D> model = cantilever<D>(0.0);
   const assembly::Assembler<D> assembler(model, false);
-  Integrator<D> integrator(assembler, fem::StressScheme::conserving, {});
+  Integrator<D> integrator = default_integrator<D>(assembler);
   model::State state = model::rest_state<D>(model);
   const double E0 = diagnostics<D>(assembler, state).total;  // 0: at rest, undeformed
   double drift = 0.0, swing = 0.0;
@@ -55,7 +64,7 @@ TEST(Prescribed, FixedSupportConservesEnergy3d) { check_fixed_support_conserves_
 TEST(Prescribed, MovingSupportFollowsItsLawExactly) {
   const model::Model<3> model = cantilever<3>(0.1);
   const assembly::Assembler<3> assembler(model, false);
-  Integrator<3> integrator(assembler, fem::StressScheme::conserving, {});
+  Integrator<3> integrator = default_integrator<3>(assembler);
   model::State state = model::rest_state<3>(model);
   for (int n = 0; n < 20; ++n) integrator.step(state, 0.01);
   for (std::size_t i = 0; i < model.prescribed.dofs.size(); ++i)

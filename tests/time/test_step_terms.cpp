@@ -1,0 +1,160 @@
+// The step's residual as a sum of terms (time/step_terms.hpp): each term's
+// derivative against central differences of its value, the sum against
+// the paper's (20) written out, and a term added from outside summed by
+// StepProblem into both the residual and the tangent.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "model/initial_state.hpp"
+#include "support/grid_mesh.hpp"
+#include "time/step_problem.hpp"
+
+namespace conserve::time {
+namespace {
+
+/// A stretched, spinning box under gravity at the start of a step, and an
+/// iterate u_{n+1} off the step's solution.
+struct Fixture {
+  model::Model<3> model;
+  std::unique_ptr<assembly::Assembler<3>> assembler;
+  model::State start;
+  Eigen::VectorXd u_np1;
+  static constexpr double dt = 0.01;
+
+  Fixture() {
+    model::add_body<3>(model, test::box_mesh(3, 2, 2, 1.0, 0.4, 0.3), "block",
+                       material::Lame::from_young_poisson(5.0e4, 0.3), 1000.0, 1.0);
+    model.gravity = Vec3(0.0, 0.0, -9.81);
+    assembler = std::make_unique<assembly::Assembler<3>>(model, false);
+    start = model::rest_state<3>(model);
+    model::InitialMotion motion;
+    motion.deformation << 1.15, 0.1, 0.0, -0.05, 0.9, 0.05, 0.0, 0.05, 1.05;
+    motion.velocity << 1.0, 0.5, 0.25;
+    motion.angular_velocity = Vec3(0.5, 1.0, 3.0);
+    model::set_initial_motion<3>(model, 0, motion, start);
+    u_np1 = start.u + dt * start.v;
+    for (Eigen::Index i = 0; i < u_np1.size(); ++i) u_np1[i] += 1e-3 * std::sin(1.7 * static_cast<double>(i));
+  }
+};
+
+/// max over columns of |∂value/∂u_j − central difference| relative to the
+/// derivative's largest column; returns {error, scale}.
+std::pair<double, double> derivative_error(StepTerm<3>& term, const Eigen::VectorXd& u, const SparseMatrix& pattern) {
+  SparseMatrix K = pattern;
+  std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  term.add_derivative(u, K);
+  const Eigen::MatrixXd dense(K);
+  auto value = [&](const Eigen::VectorXd& x) {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size()), m = Eigen::VectorXd::Zero(x.size());
+    term.add_value(x, g, m);
+    return g;
+  };
+  const double h = 1e-6;
+  double error = 0.0, scale = 0.0;
+  for (Eigen::Index j = 0; j < u.size(); ++j) {
+    Eigen::VectorXd up = u, um = u;
+    up[j] += h;
+    um[j] -= h;
+    const Eigen::VectorXd fd = (value(up) - value(um)) / (2 * h);
+    error = std::max(error, (fd - dense.col(j)).norm());
+    scale = std::max(scale, dense.col(j).norm());
+  }
+  return {error, scale};
+}
+
+TEST(StepTerms, EachDerivativeMatchesDifferencesOfItsValue) {
+  Fixture f;
+  StepTerms<3> terms = elastodynamic_terms(*f.assembler, fem::StressScheme::conserving);
+  ASSERT_EQ(terms.size(), 3u);
+  for (const auto& term : terms) {
+    term->begin(f.start, Fixture::dt);
+    const auto [error, scale] = derivative_error(*term, f.u_np1, f.assembler->pattern().make_matrix());
+    std::printf("[ measured ] %s: derivative vs central differences %.2e (largest column %.2e)\n",
+                std::string(term->name()).c_str(), scale > 0 ? error / scale : error, scale);
+    if (term->name() == "body force") {
+      EXPECT_EQ(scale, 0.0);  // a constant force
+      EXPECT_EQ(error, 0.0);
+    } else {
+      EXPECT_GT(scale, 1.0);  // non-zero guard
+      EXPECT_LT(error / scale, 1e-7);
+    }
+  }
+}
+
+// (20): g = (2/Δt²) M Δu − (2/Δt) M V_n + f_int(u_n, u_{n+1}) − f_ext.
+TEST(StepTerms, SumIsThePaperResidual) {
+  Fixture f;
+  StepTerms<3> terms = elastodynamic_terms(*f.assembler, fem::StressScheme::conserving);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(f.u_np1.size()), m = g;
+  for (const auto& term : terms) {
+    term->begin(f.start, Fixture::dt);
+    term->add_value(f.u_np1, g, m);
+  }
+  const auto& a = *f.assembler;
+  Eigen::VectorXd f_int;
+  a.internal_force(f.start.u, f.u_np1, fem::StressScheme::conserving, f_int);
+  const double dt = Fixture::dt;
+  const Eigen::VectorXd expected = (2.0 / (dt * dt)) * a.mass_times(f.u_np1 - f.start.u) -
+                                   (2.0 / dt) * a.mass_times(f.start.v) + f_int - a.gravity_force();
+  const double error = (g - expected).norm() / expected.norm();
+  std::printf("[ measured ] sum of the terms vs (20): %.2e relative\n", error);
+  EXPECT_GT(expected.norm(), 1.0);
+  EXPECT_LT(error, 1e-14);
+  EXPECT_TRUE((m.array() >= g.cwiseAbs().array()).all());  // magnitudes bound what they sum
+  // The scales: kinetic + stored energy + |f_ext·u_n|.
+  double energy = 0.0;
+  for (const auto& term : terms) energy += term->start_energy();
+  const double kinetic = 0.5 * f.start.v.dot(a.mass_times(f.start.v));
+  const double expected_energy =
+      kinetic + a.strain_energy(f.start.u) + std::abs(a.gravity_force().dot(f.start.u));
+  EXPECT_NEAR(energy, expected_energy, 1e-14 * expected_energy);
+}
+
+/// A linear spring to the start, k (u_{n+1} − u_n): a term from outside.
+class Spring final : public StepTerm<3> {
+ public:
+  explicit Spring(double k) : k_(k) {}
+  [[nodiscard]] std::string_view name() const override { return "spring"; }
+  void begin(const model::State& start, double) override { u_n_ = start.u; }
+  [[nodiscard]] double start_force() const override { return 0.0; }
+  [[nodiscard]] double start_energy() const override { return 0.0; }
+  void add_value(const Eigen::VectorXd& u, Eigen::VectorXd& g, Eigen::VectorXd& m) override {
+    g += k_ * (u - u_n_);
+    m += k_ * (u - u_n_).cwiseAbs();
+  }
+  void add_derivative(const Eigen::VectorXd&, SparseMatrix& K) override {
+    for (Eigen::Index i = 0; i < K.rows(); ++i) K.coeffRef(i, i) += k_;
+  }
+
+ private:
+  double k_;
+  Eigen::VectorXd u_n_;
+};
+
+TEST(StepTerms, StepProblemSumsATermAddedFromOutside) {
+  Fixture f;
+  const assembly::DirichletMask mask(f.assembler->mass(), {});
+  StepTerms<3> terms = elastodynamic_terms(*f.assembler, fem::StressScheme::conserving);
+  for (const auto& term : terms) term->begin(f.start, Fixture::dt);
+  Eigen::VectorXd u = f.u_np1, r0, r1;
+  SparseMatrix K = f.assembler->pattern().make_matrix();
+  StepProblem<3> plain(*f.assembler, mask, terms, f.start, Fixture::dt, u, K);
+  plain.residual(r0);
+  const Eigen::MatrixXd K0(plain.tangent());
+
+  const double k = 1.0e5;
+  terms.push_back(std::make_unique<Spring>(k));
+  terms.back()->begin(f.start, Fixture::dt);
+  StepProblem<3> sprung(*f.assembler, mask, terms, f.start, Fixture::dt, u, K);
+  sprung.residual(r1);
+  const Eigen::MatrixXd K1(sprung.tangent());
+  const Eigen::VectorXd spring = k * (u - f.start.u);
+  EXPECT_GT(spring.norm(), 1.0);
+  EXPECT_LT((r1 - r0 - spring).norm(), 1e-12 * r1.norm());
+  const Eigen::MatrixXd dK = K1 - K0;
+  EXPECT_LT((dK - k * Eigen::MatrixXd::Identity(dK.rows(), dK.cols())).norm(), 1e-12 * K1.norm());
+}
+
+}  // namespace
+}  // namespace conserve::time
