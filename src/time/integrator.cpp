@@ -21,7 +21,6 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
                           solver::NewtonSettings newton, contact::ActiveSet<D>* contacts, int max_passes,
                           const solver::LinearSolverSettings& linear)
     : assembler_(assembler),
-      scheme_(scheme),
       newton_(newton),
       mask_(assembler.mass(), assembler.model().prescribed.dofs),
       K_(assembler.pattern().make_matrix()),

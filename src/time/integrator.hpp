@@ -53,7 +53,6 @@ class Integrator {
 
  private:
   const assembly::Assembler<D>& assembler_;
-  fem::StressScheme scheme_;
   solver::NewtonSettings newton_;
   assembly::DirichletMask mask_;
   SparseMatrix K_;
