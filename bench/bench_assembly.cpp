@@ -84,8 +84,9 @@ void BM_CubeTangent(benchmark::State& st) {
   const auto start = p.assembler->step_start(p.u_n);
   for (auto _ : st) p.assembler->internal_force_tangent(start, p.u_np1, fem::StressScheme::conserving, f, K);
   st.counters["nonzeros"] = static_cast<double>(K.nonZeros());
-  st.counters["colours"] = p.assembler->colouring().num_colours();
-  st.counters["chunks"] = static_cast<double>(p.assembler->colouring().chunks.size());
+  st.counters["parts"] = p.assembler->partition().num_parts();
+  st.counters["visits_per_cell"] =
+      static_cast<double>(p.assembler->partition().num_visits()) / p.problem.model.num_cells();
 }
 BENCHMARK(BM_CubeTangent)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 

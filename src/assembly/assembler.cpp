@@ -1,8 +1,8 @@
 #include "assembly/assembler.hpp"
 
-#include <atomic>
+#include <algorithm>
+#include <cstdint>
 #include <limits>
-#include <thread>
 #include <vector>
 
 #include "assembly/threads.hpp"
@@ -10,25 +10,13 @@
 namespace conserve::assembly {
 namespace {
 
-/// Calls body(cell) for every cell, chunk by chunk in the colouring's
-/// order. Threads take the next chunk as they come free, and start it once
-/// the earlier chunks it shares nodes with are done: so body may add into
-/// its nodes' entries unguarded, each entry gets its terms in the
-/// colouring's order, and a thread the system holds up stalls only the
-/// chunks that wait for its own (no barrier between colours).
-template <class Body>
-void for_each_coloured(const CellColouring& colouring, const Body& body) {
-  const int num_chunks = static_cast<int>(colouring.chunks.size());
-  std::vector<std::atomic<bool>> done(num_chunks);  // false
-  std::atomic<int> next{0};
-#pragma omp parallel if (colouring.num_cells >= kMinParallelCells)
-  for (int j = next++; j < num_chunks; j = next++) {
-    for (int i = colouring.wait_start[j]; i < colouring.wait_start[j + 1]; ++i)
-      while (!done[colouring.waits_for[i]].load(std::memory_order_acquire)) std::this_thread::yield();
-    const int chunk = colouring.chunks[j];
-    for (int c = colouring.first_cell(chunk); c < colouring.end_cell(chunk); ++c) body(c);
-    done[j].store(true, std::memory_order_release);
-  }
+/// Calls part(p) for every part of the partition, each on its own thread
+/// (part p on thread p, so that a part's buffers stay in one core's cache).
+template <class Part>
+void for_each_part(const NodePartition& partition, const Part& part) {
+  const int parts = partition.num_parts();
+#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
+  for (int p = 0; p < parts; ++p) part(p);
 }
 
 /// value(cell) for every cell, computed in parallel.
@@ -46,7 +34,6 @@ template <int D>
 Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
     : model_(model),
       pattern_(model.num_nodes(), model.cells),
-      colouring_(colour_cells(model.num_nodes(), model.cells)),
       mass_(pattern_.make_matrix()) {
   double* values = mass_.valuePtr();
   std::vector<Eigen::Triplet<double>> node_entries;
@@ -113,14 +100,39 @@ void Assembler<D>::internal_force(const StepStart& start, const Eigen::VectorXd&
 }
 
 template <int D>
+const NodePartition& Assembler<D>::partition() const {
+  const int parts = model_.num_cells() >= kMinParallelCells ? std::max(threads(), 1) : 1;
+  if (partition_.num_parts() != parts) {
+    partition_ = partition_nodes(model_.num_nodes(), model_.cells, parts);
+    scratch_.assign(static_cast<std::size_t>(parts), {});
+  }
+  return partition_;
+}
+
+template <int D>
 void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                                       Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
-  for_each_coloured(colouring_, [&](int c) {
-    const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
-                                                         cell_positions(c, u_np1), scheme);
-    for (int a = 0; a <= D; ++a) f.segment<D>(model_.cells(a, c) * D) += fe.col(a);
-    if (magnitude)
-      for (int a = 0; a <= D; ++a) magnitude->segment<D>(model_.cells(a, c) * D) += fe.col(a).cwiseAbs();
+  const NodePartition& parts = partition();
+  for_each_part(parts, [&](int p) {
+    const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
+    Eigen::VectorXd& local = scratch_[p].force;
+    Eigen::VectorXd& local_magnitude = scratch_[p].magnitude;
+    local.setZero(size);
+    if (magnitude) local_magnitude.setZero(size);
+    for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
+      const int c = parts.visit_cell[v];
+      const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], lame(c),
+                                                           start[static_cast<std::size_t>(c)],
+                                                           cell_positions(c, u_np1), scheme);
+      for (int a = 0; a <= D; ++a) {
+        if (!(parts.visit_owned[v] >> a & 1u)) continue;
+        const int at = (model_.cells(a, c) - first) * D;
+        local.segment<D>(at) += fe.col(a);
+        if (magnitude) local_magnitude.segment<D>(at) += fe.col(a).cwiseAbs();
+      }
+    }
+    f.segment(first * D, size) += local;
+    if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
   });
 }
 
@@ -148,14 +160,24 @@ template <int D>
 void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                                Eigen::VectorXd* f, SparseMatrix& K) const {
   double* values = K.valuePtr();
-  for_each_coloured(colouring_, [&](int c) {
+  const NodePartition& parts = partition();
+  for_each_part(parts, [&](int p) {
+    const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
+    Eigen::VectorXd& local = scratch_[p].force;
+    if (f) local.setZero(size);
     fem::NodeMatrix<D> fe;
     fem::ElementMatrix<D> Ke;
-    fem::internal_force_tangent<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
-                                   cell_positions(c, u_np1), scheme, fe, Ke);
-    if (f)
-      for (int a = 0; a <= D; ++a) f->segment<D>(model_.cells(a, c) * D) += fe.col(a);
-    pattern_.add_cell_matrix(c, Ke, values);
+    for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
+      const int c = parts.visit_cell[v];
+      const std::uint8_t owned = parts.visit_owned[v];
+      fem::internal_force_tangent<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
+                                     cell_positions(c, u_np1), scheme, fe, Ke);
+      if (f)
+        for (int a = 0; a <= D; ++a)
+          if (owned >> a & 1u) local.segment<D>((model_.cells(a, c) - first) * D) += fe.col(a);
+      pattern_.add_cell_matrix(c, Ke, values, owned);  // the owned nodes' block columns
+    }
+    if (f) f->segment(first * D, size) += local;
   });
 }
 

@@ -3,12 +3,14 @@
 /// are flat and node-major (dof A·D + i), displacements relative to the
 /// model's reference coordinates. Loops over cells run on OpenMP threads
 /// (assembly/threads.hpp) and give the same bits for any number of them:
-/// sums into global entries follow the colouring's order
-/// (assembly/colouring.hpp), sums and minima over cells go in cell order.
+/// each global entry sums its cells' terms in ascending cell order, in the
+/// part of the nodes that owns it (assembly/partition.hpp), and sums and
+/// minima over cells go in cell order. An Assembler serves one caller at a
+/// time: its loops keep per-part buffers between calls.
 #include <vector>
 
 #include "assembly/block_pattern.hpp"
-#include "assembly/colouring.hpp"
+#include "assembly/partition.hpp"
 #include "fem/element.hpp"
 #include "model/model.hpp"
 
@@ -28,8 +30,10 @@ class Assembler {
 
   [[nodiscard]] const model::Model<D>& model() const { return model_; }
   [[nodiscard]] const BlockPattern<D>& pattern() const { return pattern_; }
-  /// The cell order the global sums follow.
-  [[nodiscard]] const CellColouring& colouring() const { return colouring_; }
+  /// Which part adds into which nodes' entries, for the present number of
+  /// threads (one part below kMinParallelCells cells); remade when that
+  /// number changes.
+  [[nodiscard]] const NodePartition& partition() const;
   /// M_AB ⊗ 1, with the pattern of the tangent [kg].
   [[nodiscard]] const SparseMatrix& mass() const { return mass_; }
   /// M x for a node-major vector x: the nodes' scalar mass matrix M_AB
@@ -87,7 +91,13 @@ class Assembler {
                    SparseMatrix& K) const;
   const model::Model<D>& model_;
   BlockPattern<D> pattern_;
-  CellColouring colouring_;
+  /// A part's sums before they go into the result, kept between calls so
+  /// that each stays in the cache of the core that fills it.
+  struct Scratch {
+    Eigen::VectorXd force, magnitude;
+  };
+  mutable NodePartition partition_;
+  mutable std::vector<Scratch> scratch_;
   SparseMatrix mass_;
   SparseMatrix node_mass_;  ///< M_AB, nodes × nodes
   Eigen::VectorXd gravity_force_;

@@ -4,6 +4,7 @@
 /// each cell writes to, so that assembly is a direct store into the values.
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -31,8 +32,12 @@ class BlockPattern {
   /// Adds a cell's matrix Ke (row a·D+i, column b·D+k for local nodes a, b)
   /// into `values`, the values of a matrix with this pattern: the same
   /// entries as position(), with the block starts found once per cell.
-  void add_cell_matrix(int cell, const Eigen::Matrix<double, D*(D + 1), D*(D + 1)>& Ke, double* values) const {
+  /// Only the block columns b whose bit is set in `columns` (all by
+  /// default): those of the nodes a thread owns (assembly/partition.hpp).
+  void add_cell_matrix(int cell, const Eigen::Matrix<double, D*(D + 1), D*(D + 1)>& Ke, double* values,
+                       std::uint8_t columns = 0xff) const {
     for (int b = 0; b <= D; ++b) {
+      if (!(columns >> b & 1u)) continue;
       const int B = cells_(b, cell);
       const int* rank = &rank_[static_cast<std::size_t>(cell * (D + 1) + b) * (D + 1)];
       const int column = outer_[static_cast<std::size_t>(B) * D];

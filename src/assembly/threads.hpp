@@ -1,6 +1,6 @@
 #pragma once
 /// Threads of the assembly loops (OpenMP). Results do not depend on them:
-/// every sum is taken in one fixed order (assembly/colouring.hpp).
+/// every sum is taken in one fixed order (assembly/partition.hpp).
 /// Without OpenMP there is one thread and setting them does nothing.
 
 namespace conserve::assembly {
