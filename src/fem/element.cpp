@@ -27,7 +27,7 @@ AlgorithmicState<D> algorithmic_state(const SimplexGeometry<D>& g, const materia
 /// so that both give the same bits.
 template <int D>
 NodeMatrix<D> force_of_state(const SimplexGeometry<D>& g, const AlgorithmicState<D>& s) {
-  return g.volume * (s.F_mid * s.S * g.grad);
+  return (g.volume * s.F_mid.lazyProduct(s.S)).lazyProduct(g.grad);  // coefficient-wise, no temporaries
 }
 
 }  // namespace

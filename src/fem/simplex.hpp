@@ -54,7 +54,7 @@ SimplexGeometry<D> simplex_geometry(const NodeMatrix<D>& X, double thickness) {
 /// Deformation gradient F = Σ_A x_A ⊗ ∇N_A for nodal positions x.
 template <int D>
 Mat<D> deformation_gradient(const NodeMatrix<D>& x, const SimplexGeometry<D>& g) {
-  return x * g.grad.transpose();
+  return x.lazyProduct(g.grad.transpose());  // coefficient-wise: no temporary, no aliasing check
 }
 
 /// Consistent mass M_AB = ρ V (1 + δ_AB) / ((D+1)(D+2)), or the lumped

@@ -20,14 +20,16 @@ struct Lame {
 /// Green–Lagrange strain E = ½(FᵀF − 1).
 template <int D>
 Mat<D> green_lagrange(const Mat<D>& F) {
-  return 0.5 * (F.transpose() * F - Mat<D>::Identity());
+  return 0.5 * (F.transpose().lazyProduct(F) - Mat<D>::Identity());
 }
 
 /// ℂ : A = λ tr(A) 1 + 2μ A — the second Piola–Kirchhoff stress of a strain
 /// (S = ℂ:E) and also its variation (δS = ℂ:δE), since SVK is linear in E.
 template <int D>
 Mat<D> svk_stress(const Lame& lame, const Mat<D>& E) {
-  return lame.lambda * E.trace() * Mat<D>::Identity() + 2.0 * lame.mu * E;
+  Mat<D> S = (2.0 * lame.mu) * E;
+  S.diagonal().array() += lame.lambda * E.trace();
+  return S;
 }
 
 /// Stored energy per reference volume ρ0Ψ = ½ λ (tr E)² + μ E:E [J/m³].
