@@ -1,13 +1,17 @@
 // Global assembly on the peer cube (bench/cube/febio_cube.toml: 13 182
 // tetrahedra, 8 232 unknowns, 8 307 with the rigid plane's nodes):
 // residual, residual with its magnitude (the round-off floor) and residual
-// with tangent, with 1 and 2 assembly threads. Run:
+// with tangent, with 1 and 2 assembly threads; and what moving a cache line
+// between the two cores costs. Run:
 //   ./build/release/bench/conserve_bench --benchmark_filter=Cube
 // Times are wall times; the CPU column counts the main thread only.
 #include <benchmark/benchmark.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <memory>
+#include <thread>
 
 #include "assembly/assembler.hpp"
 #include "assembly/threads.hpp"
@@ -89,6 +93,34 @@ void BM_CubeTangent(benchmark::State& st) {
       static_cast<double>(p.assembler->partition().num_visits()) / p.problem.model.num_cells();
 }
 BENCHMARK(BM_CubeTangent)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// What a cache line costs to move between two cores: one thread writes a
+/// counter, the other answers, per round trip. On the project's VM kind it
+/// is about 100 ns in one placement of the two vCPUs and about 400 ns in
+/// another, which holds for minutes (bench/README.md, "Parallel
+/// assembly"); the assembly's speed on 2 threads followed it until the
+/// threads stopped sharing their results' cache lines.
+void BM_CoreToCoreRoundTrip(benchmark::State& st) {
+  alignas(64) std::atomic<std::int64_t> turn{0};
+  std::atomic<bool> stop{false};
+  std::thread answer([&] {
+    for (std::int64_t seen = 1; !stop.load(std::memory_order_relaxed); seen += 2) {
+      while (turn.load(std::memory_order_acquire) < seen)
+        if (stop.load(std::memory_order_relaxed)) return;
+      turn.store(seen + 1, std::memory_order_release);
+    }
+  });
+  std::int64_t next = 1;
+  for (auto _ : st) {
+    turn.store(next, std::memory_order_release);
+    while (turn.load(std::memory_order_acquire) != next + 1) {
+    }
+    next += 2;
+  }
+  stop = true;
+  answer.join();
+}
+BENCHMARK(BM_CoreToCoreRoundTrip)->Unit(benchmark::kNanosecond)->UseRealTime();
 
 }  // namespace
 }  // namespace conserve

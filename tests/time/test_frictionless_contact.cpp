@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string>
 
 #include "contact_checks.hpp"
 #include "support/contact_scenarios.hpp"
@@ -229,6 +231,27 @@ TEST(FrictionlessContact, ThreeCylindersPassTheirMomentumAlong) {
   EXPECT_LT(e, 1e-9);
   EXPECT_LT(lx, 1e-9);
   EXPECT_LT(jz, 1e-9);
+}
+
+// The paper's §6.2 example through its first contact (60 steps, 12 ms).
+// FAILS TODAY, so it is opt-in (CONSERVE_LONG_TESTS=1) until fixed: since
+// the held-gap constraints of 32756a4 (issue 11), Newton stalls in step 9
+// (|r| stays near 5e-2 N against a tolerance of 2e-10 N), the cutbacks do
+// not help and the run stops at [time].min_step in step 32. 1c39638, the
+// commit before, runs these 60 steps (E drift 7.8e-14). Found 2026-11-23
+// by bench/run_paper.sh; the regression is not in the solver (the LU with
+// full Newton fails the same way) nor in the facet switches (none happen).
+TEST(FrictionlessContact, TwoHollowCylindersThroughTheirFirstContactLong) {
+  const char* opt_in = std::getenv("CONSERVE_LONG_TESTS");
+  if (opt_in == nullptr || std::string(opt_in) != "1") GTEST_SKIP() << "set CONSERVE_LONG_TESTS=1 (fails today)";
+  ContactRun<3> run(example("cylinders/two_hollow_cylinders.toml"));
+  const Diagnostics d0 = run.diagnostics();
+  double e = 0.0;
+  for (int n = 0; n < 60; ++n) {
+    ASSERT_NO_THROW(run.step()) << "step " << n + 1;
+    e = std::max(e, std::abs(run.diagnostics().total - d0.total) / d0.total);
+  }
+  EXPECT_LT(e, 1e-10);
 }
 
 // The reduced tangent where constraints chain (the middle cylinder is the
