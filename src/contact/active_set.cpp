@@ -20,9 +20,16 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
 }
 
 template <int D>
-void ActiveSet<D>::begin_step() {
+void ActiveSet<D>::begin_step(std::int64_t step) {
   std::fill(released_.begin(), released_.end(), 0);
   std::fill(held_.begin(), held_.end(), 0);
+  step_ = step;
+  double sum = 0.0;
+  for (Constraint<D>& c : active_) {
+    c.start_force = c.normal_force;
+    sum += c.normal_force;
+  }
+  start_mean_force_ = active_.empty() ? 0.0 : sum / static_cast<double>(active_.size());
 }
 
 template <int D>
@@ -35,8 +42,11 @@ template <int D>
 void ActiveSet<D>::set_constraints(std::vector<Constraint<D>> constraints) {
   active_ = std::move(constraints);
   std::fill(is_active_.begin(), is_active_.end(), 0);
-  for (const Constraint<D>& c : active_) is_active_[c.slave] = 1;
-  normal_forces_.assign(active_.size(), 0.0);
+  normal_forces_.clear();
+  for (const Constraint<D>& c : active_) {
+    is_active_[c.slave] = 1;
+    normal_forces_.push_back(c.normal_force);
+  }
 }
 
 template <int D>
@@ -91,8 +101,11 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
       is_active_[c.slave] = 0;
       released_[c.slave] = 1;
       ++stats.releases;
+      if (step_ - c.activated_step < kChatterWindow) ++stats.chatter;
+      if (c.activated_step < step_ && c.start_force > kLoadedFraction * start_mean_force_) ++stats.loaded_releases;
       continue;
     }
+    c.normal_force = f_n;
     kept.push_back(c);
     normal_forces_.push_back(f_n);
   }
@@ -178,6 +191,7 @@ Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, c
   c.xi = c.kind == Kind::stick ? start.xi : mid.xi;
   c.normal = mid.normal;
   c.tangents = mid.tangents;
+  c.activated_step = step_;
   return c;
 }
 

@@ -14,6 +14,7 @@
 
 #include "contact/constraint.hpp"
 #include "contact/elimination.hpp"
+#include "contact/persistent_velocity.hpp"
 #include "model/model.hpp"
 
 namespace conserve::contact {
@@ -25,6 +26,13 @@ struct StepContactStats {
   int activations = 0;
   int releases = 0;
   int held = 0;                  ///< released slaves re-activated (and kept) in the step
+  /// Releases of slaves activated within the last kChatterWindow steps.
+  int chatter = 0;
+  /// Releases of slaves whose force at the end of the previous step was
+  /// above kLoadedFraction of the mean force of the active slaves then:
+  /// a node let go while it pressed.
+  int loaded_releases = 0;
+  VelocityUpdate velocity;       ///< the persistent-contact velocity update after the step
   double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   /// At the end of the step: the deepest slave behind a master facet,
   /// active or not (0 if none), and the extreme gaps of the active slaves
@@ -33,6 +41,13 @@ struct StepContactStats {
   double min_active_gap = std::numeric_limits<double>::quiet_NaN();
   double max_active_gap = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// A release counts as chatter if the slave was activated less than this
+/// many steps before (history.csv `chatter`).
+inline constexpr int kChatterWindow = 10;
+/// A release counts as loaded if the slave's force at the end of the
+/// previous step was above this fraction of the mean force then.
+inline constexpr double kLoadedFraction = 0.01;
 
 /// The deepest penetration found by ActiveSet::max_penetration.
 struct Penetration {
@@ -57,9 +72,10 @@ class ActiveSet {
   /// Normal force f_N = g_s·n_{n+½} of each constraint after the last update [N].
   [[nodiscard]] const std::vector<double>& normal_forces() const { return normal_forces_; }
 
-  /// Starts a step: forgets which slaves were released or held in the
-  /// previous one.
-  void begin_step();
+  /// Starts step `step` (the index it will have once taken): forgets which
+  /// slaves were released or held in the previous one and keeps each
+  /// constraint's force at its end (Constraint::start_force).
+  void begin_step(std::int64_t step);
 
   /// The direct elimination of the active constraints for one solve of the
   /// step u_n → u (u is not modified: call enforce()). It works on this
@@ -78,7 +94,8 @@ class ActiveSet {
               StepContactStats& stats);
 
   /// Replaces the active set (restoring a checkpoint or a failed step's
-  /// start); the per-node flags follow, the normal forces are zero until
+  /// start); the per-node flags follow, the normal forces are the constraints'
+  /// own (Constraint::normal_force) until
   /// the next update.
   void set_constraints(std::vector<Constraint<D>> constraints);
 
@@ -112,6 +129,8 @@ class ActiveSet {
   std::vector<char> released_;    ///< per node: released during this step
   std::vector<char> held_;        ///< per node: re-activated after a release in this step; not released again
   std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
+  std::int64_t step_ = 0;          ///< the step under way
+  double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step
 };
 
 }  // namespace conserve::contact

@@ -1,6 +1,7 @@
 #pragma once
 /// Contact pairs and active node-to-segment constraints.
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "contact/broad_phase.hpp"
@@ -45,6 +46,12 @@ struct Constraint {
   /// γ: the gap held, the slave's gap at the start of the step it was
   /// activated in (≥ 0) [m]. Stick: the height of the slave above ξ̄.
   double gap = 0.0;
+  /// The step the slave was activated in (its first step in contact).
+  std::int64_t activated_step = 0;
+  /// f_N = g_s·n_{n+½} at the last update of the active set [N], and at
+  /// the end of the previous step (set by ActiveSet::begin_step).
+  double normal_force = 0.0;
+  double start_force = 0.0;
 };
 
 }  // namespace conserve::contact

@@ -17,6 +17,7 @@ enum class StressScheme {
 };
 
 enum class MassKind { consistent, lumped };
+enum class ContactScheme { paper, persistent };
 
 struct MaterialSpec {
   double young = 0.0;    ///< Young's modulus E [Pa], > 0
@@ -72,6 +73,10 @@ struct ContactSpec {
 /// Active-set control (ALGORITHM.md §7).
 struct ActiveSetSpec {
   int max_passes = 30;  ///< solves of one step before giving up on a changing active set
+  /// `persistent`: after each step the relative velocity of the active
+  /// slaves is set to zero and its energy given back (contact/
+  /// persistent_velocity.hpp); `paper`: the mid-point velocity (19) only.
+  ContactScheme scheme = ContactScheme::paper;
 };
 
 /// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for

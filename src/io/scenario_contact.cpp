@@ -66,6 +66,7 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
 ActiveSetSpec parse_active_set(const Section& active_set) {
   ActiveSetSpec spec;
   spec.max_passes = active_set.integer("max_passes");
+  spec.scheme = active_set.string("scheme") == "persistent" ? ContactScheme::persistent : ContactScheme::paper;
   return spec;
 }
 

@@ -367,6 +367,14 @@ SectionSpec active_set_section() {
                .default_value = "30",
                .min = at_least(1),
                .doc = "solves of one step before giving up on an active set that keeps changing"},
+              {.name = "scheme",
+               .type = KeyType::choice,
+               .default_value = "paper",
+               .choices = {"paper", "persistent"},
+               .doc = "`persistent`: after each step the relative velocity of the slaves in contact is set to "
+                      "zero and its kinetic energy given back to the bodies' motion, so that nodes in sustained "
+                      "contact do not chatter (E, L, J kept exactly; docs/theory.md); `paper`: the mid-point "
+                      "velocity alone, as in the paper"},
           }};
 }
 

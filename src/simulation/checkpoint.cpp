@@ -19,7 +19,7 @@ namespace {
 constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 2: 64-bit step and counters, the fingerprint's named entries instead of
 /// one hash.
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -95,6 +95,8 @@ void write_constraint(Writer& w, const contact::Constraint<D>& c) {
   w.doubles(c.tangents.data(), c.tangents.size());
   w.value(static_cast<std::int32_t>(c.kind));
   w.value(c.gap);
+  w.value(static_cast<std::int64_t>(c.activated_step));
+  w.value(c.normal_force);
 }
 
 template <int D>
@@ -109,6 +111,8 @@ contact::Constraint<D> read_constraint(Reader& r, int num_nodes) {
   r.doubles(c.tangents.data(), c.tangents.size(), "a constraint's tangents");
   const auto kind = r.template value<std::int32_t>();
   c.gap = r.template value<double>();
+  c.activated_step = r.template value<std::int64_t>();
+  c.normal_force = r.template value<double>();
   bool nodes_ok = c.slave >= 0 && c.slave < num_nodes;
   for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
   if (!nodes_ok || (kind != 0 && kind != 1)) r.fail("a contact constraint names a node out of range");
@@ -125,6 +129,8 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(static_cast<std::int64_t>(t.activations));
   w.value(static_cast<std::int64_t>(t.releases));
   w.value(static_cast<std::int64_t>(t.held));
+  w.value(static_cast<std::int64_t>(t.chatter));
+  w.value(static_cast<std::int64_t>(t.loaded_releases));
   w.value(t.max_activation_gap);
   for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
                    t.min_det_F})
@@ -141,6 +147,8 @@ RunTotals read_totals(Reader& r) {
   t.activations = r.value<std::int64_t>();
   t.releases = r.value<std::int64_t>();
   t.held = r.value<std::int64_t>();
+  t.chatter = r.value<std::int64_t>();
+  t.loaded_releases = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
   for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
                     &t.max_penetration, &t.min_det_F})
@@ -187,6 +195,8 @@ void RunTotals::add(const contact::StepContactStats& c) {
   activations += c.activations;
   releases += c.releases;
   held += c.held;
+  chatter += c.chatter;
+  loaded_releases += c.loaded_releases;
   max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
   max_penetration = std::max(max_penetration, c.max_penetration);
   if (!std::isnan(c.min_active_gap)) {

@@ -29,6 +29,8 @@ struct RunTotals {
   std::int64_t activations = 0;
   std::int64_t releases = 0;
   std::int64_t held = 0;  ///< released slaves re-activated and held within their step
+  std::int64_t chatter = 0;          ///< releases within contact::kChatterWindow steps of the activation
+  std::int64_t loaded_releases = 0;  ///< releases of slaves that pressed at the previous step's end
   double max_activation_gap = 0.0;
   /// Extremes over the steps: gaps of the active slaves (NaN while none
   /// was ever active) and the deepest penetration [m]; smallest det F.

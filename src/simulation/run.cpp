@@ -149,6 +149,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.releases = totals.releases;
   summary.max_activation_gap = totals.max_activation_gap;
   summary.held = totals.held;
+  summary.chatter = totals.chatter;
+  summary.loaded_releases = totals.loaded_releases;
   summary.min_active_gap = totals.min_active_gap;
   summary.max_active_gap = totals.max_active_gap;
   summary.max_penetration = totals.max_penetration;

@@ -43,7 +43,9 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
                                                          newton_settings(scenario.newton, scenario.solver),
                                                          contacts_.get(), scenario.active_set.max_passes,
                                                          linear_settings(scenario.solver))),
-      control_{.dt = scenario.time.step} {}
+      control_{.dt = scenario.time.step} {
+  integrator_->set_persistent_contact(scenario.active_set.scheme == io::ContactScheme::persistent);
+}
 
 template <int D>
 StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failures) {

@@ -35,6 +35,8 @@ Json figures(const RunSummary& s, int unknowns) {
               {"angular_drift", vector3(s.angular_drift)},
               {"activations", s.activations},
               {"releases", s.releases},
+              {"chatter", s.chatter},
+              {"loaded_releases", s.loaded_releases},
               {"max_activation_gap", s.max_activation_gap},
               {"seconds",
                {{"assembly", t.assembly},

@@ -33,13 +33,21 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
 }
 
 template <int D>
+void Integrator<D>::set_persistent_contact(bool on) {
+  if (on)
+    persistent_.emplace(assembler_.model(), assembler_.mass());
+  else
+    persistent_.reset();
+}
+
+template <int D>
 solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   const double t_np1 = state.time + dt;
   Eigen::VectorXd u_np1 = predictor(state, dt);
   apply_prescribed(assembler_.model().prescribed, t_np1, u_np1);
   stats_ = {};
   for (const auto& term : terms_) term->begin(state, dt);
-  if (contacts_) contacts_->begin_step();
+  if (contacts_) contacts_->begin_step(state.step + 1);
   solver::NewtonReport total;
   for (bool again = true; again;) {
     // The elimination works on the active set's constraints: the updates
@@ -79,6 +87,12 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   }
   check_orientation(u_np1, state.step + 1, t_np1);
   state.v = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
+  if (persistent_ && contacts_ && !contacts_->constraints().empty()) {
+    solver::ScopedTimer timer(timings_.elimination);
+    const auto& X = assembler_.model().X;
+    const contact::Positions<D> x = X + u_np1.reshaped(D, X.cols());
+    stats_.velocity = persistent_->apply(contacts_->constraints(), contacts_->pairs(), x, state.v);
+  }
   state.u = std::move(u_np1);
   state.time = t_np1;
   ++state.step;

@@ -3,11 +3,13 @@
 /// reusing the tangent's pattern and the linear solver.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
 #include "contact/active_set.hpp"
+#include "contact/persistent_velocity.hpp"
 #include "contact/tangent_reduction.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
@@ -45,6 +47,11 @@ class Integrator {
     solver_->reset();
   }
 
+  /// After each step, set the active slaves' relative velocity to zero
+  /// and give its energy back (contact/persistent_velocity.hpp); off: the
+  /// mid-point velocity (19) alone, as in the paper.
+  void set_persistent_contact(bool on);
+
   /// What the active set did in the last step.
   [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
   [[nodiscard]] const solver::LinearSolver& linear_solver() const { return *solver_; }
@@ -62,6 +69,7 @@ class Integrator {
   /// constraints' nodes do not change.
   std::shared_ptr<contact::TangentReduction<D>> reduction_ = std::make_shared<contact::TangentReduction<D>>();
   int max_passes_;
+  std::optional<contact::PersistentVelocity<D>> persistent_;
   std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;
   solver::Timings timings_;

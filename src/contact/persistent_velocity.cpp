@@ -1,0 +1,139 @@
+#include "contact/persistent_velocity.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <cmath>
+
+#include "contact/search.hpp"
+
+namespace conserve::contact {
+
+namespace {
+
+/// The largest change t of the energy-restoring scale accepted: beyond
+/// it the motion left to carry the energy is too small to take it
+/// without being distorted, and V* is kept for the step.
+constexpr double kMaxScale = 0.25;
+
+}  // namespace
+
+template <int D>
+PersistentVelocity<D>::PersistentVelocity(const model::Model<D>& model, const SparseMatrix& mass)
+    : model_(model), mass_(mass), lumped_(Eigen::VectorXd::Zero(mass.rows())), prescribed_(mass.rows(), 0) {
+  for (int k = 0; k < mass.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(mass, k); it; ++it) lumped_[it.row()] += it.value();
+  for (int d : model.prescribed.dofs) prescribed_[d] = 1;
+}
+
+template <int D>
+Eigen::MatrixXd PersistentVelocity<D>::rigid_modes(const Positions<D>& x) const {
+  constexpr int kRotations = D == 3 ? 3 : 1;
+  const Eigen::Index n = x.cols();
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(D * n, D + kRotations);
+  const Vec<D> c = x.rowwise().mean();
+  for (Eigen::Index a = 0; a < n; ++a) {
+    for (int i = 0; i < D; ++i) R(D * a + i, i) = 1.0;
+    const Vec<D> r = x.col(a) - c;
+    if constexpr (D == 3) {
+      for (int k = 0; k < 3; ++k) R.block<3, 1>(3 * a, D + k) = Vec3::Unit(k).cross(r);
+    } else {
+      R(2 * a, D) = -r(1);
+      R(2 * a + 1, D) = r(0);
+    }
+  }
+  return R;
+}
+
+template <int D>
+VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& constraints,
+                                            const std::vector<ContactPair<D>>& pairs, const Positions<D>& x,
+                                            Eigen::VectorXd& v) const {
+  VelocityUpdate out;
+  if (constraints.empty()) return out;
+  // The rows of A: frictionless one per slave (the gap rate), stick D
+  // (the relative velocity of the slave and its frozen point).
+  std::vector<Eigen::Triplet<double>> rows;
+  int m = 0;
+  for (const Constraint<D>& c : constraints) {
+    const ContactPair<D>& pair = pairs[c.pair];
+    const FacetNodes<D> xm = facet_nodes<D>(pair.master, c.facet, x);
+    auto add = [&](int row, const Vec<D>& dir, const Vec<D>& N) {
+      for (int i = 0; i < D; ++i) {
+        rows.emplace_back(row, c.slave * D + i, dir(i));
+        for (int b = 0; b < D; ++b) rows.emplace_back(row, c.master[b] * D + i, -N(b) * dir(i));
+      }
+    };
+    if (c.kind == Kind::frictionless) {
+      const Projection<D> end = project<D>(x.col(c.slave), xm);
+      add(m++, end.normal, facet_shape<D>(end.xi));
+    } else {
+      for (int i = 0; i < D; ++i) add(m++, Vec<D>::Unit(i), facet_shape<D>(c.xi));
+    }
+  }
+  const Eigen::Index ndof = v.size();
+  SparseMatrix A(m, ndof);
+  A.setFromTriplets(rows.begin(), rows.end());
+  const Eigen::VectorXd r = A * v;
+  out.removed = r.cwiseAbs().maxCoeff();
+  if (!(out.removed > 0.0)) return out;
+
+  // Both parts move the free dofs by M_L⁻¹ (Aᵀα + M R β): impulses on the
+  // constraints' nodes, and a rigid-mode force field that sets the change
+  // of L and J. With S = A M_L⁻¹ Aᵀ (sparse, factorized once here),
+  // E = A M_L⁻¹ M R and G = Rᵀ M M_L⁻¹ M R, the 6 (2D: 3) β follow from a
+  // small Schur complement.
+  Eigen::VectorXd inv_mass(ndof);
+  for (Eigen::Index d = 0; d < ndof; ++d) inv_mass[d] = prescribed_[d] || !(lumped_[d] > 0.0) ? 0.0 : 1.0 / lumped_[d];
+  const SparseMatrix B = A * inv_mass.cwiseSqrt().asDiagonal();
+  const SparseMatrix S = B * B.transpose();
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt(S);
+  if (ldlt.info() != Eigen::Success) return out;
+  const Eigen::MatrixXd R = rigid_modes(x);
+  const Eigen::MatrixXd MR = mass_ * R;
+  const Eigen::MatrixXd LMR = inv_mass.asDiagonal() * MR;  // M_L⁻¹ M R
+  const Eigen::MatrixXd E = A * LMR;
+  const Eigen::MatrixXd G = MR.transpose() * LMR;
+  const Eigen::MatrixXd SE = ldlt.solve(E);
+  auto move = [&](const Eigen::VectorXd& alpha, const Eigen::VectorXd& beta) -> Eigen::VectorXd {
+    return inv_mass.asDiagonal() * (A.transpose() * alpha) + LMR * beta;
+  };
+
+  // 1. Persistency, A (V* + δ) = 0, with δ's change of L and J that of
+  // the impulses on the free dofs alone, Rᵀ M δ = Rᵀ A_fᵀ μ (no resultant
+  // and no moment for frictionless constraints between free bodies):
+  //   S μ + E β = −r,   Fᵀ μ + G β = 0,   F = E − A_f R.
+  const SparseMatrix A_free = A * Eigen::VectorXd((inv_mass.array() > 0.0).cast<double>()).asDiagonal();
+  const Eigen::MatrixXd F = E - A_free * R;
+  const Eigen::VectorXd Sr = ldlt.solve(r);
+  const Eigen::MatrixXd schur1 = G - F.transpose() * SE;
+  const Eigen::VectorXd beta1 = schur1.partialPivLu().solve(F.transpose() * Sr);
+  const Eigen::VectorXd mu = -Sr - SE * beta1;
+  const Eigen::VectorXd v_p = v + move(mu, beta1);
+
+  // 2. Energy: w = V_p − M_L⁻¹(Aᵀα + M R β) with A w = 0 and Rᵀ M w = 0,
+  //   S α + E β = A V_p,   Eᵀ α + G β = Rᵀ M V_p,
+  // then V = V_p + t w with K(V) = K*.
+  const Eigen::VectorXd Av_p = A * v_p;
+  const Eigen::VectorXd L_p = MR.transpose() * v_p;
+  const Eigen::MatrixXd schur2 = G - E.transpose() * SE;
+  const Eigen::VectorXd beta2 = schur2.ldlt().solve(L_p - SE.transpose() * Av_p);
+  const Eigen::VectorXd alpha = ldlt.solve(Av_p) - SE * beta2;
+  const Eigen::VectorXd w = v_p - move(alpha, beta2);
+  if (!v_p.allFinite() || !w.allFinite()) return out;
+
+  const Eigen::VectorXd Mv = mass_ * v, Mvp = mass_ * v_p, Mw = mass_ * w;
+  const double K_star = 0.5 * v.dot(Mv), K_p = 0.5 * v_p.dot(Mvp);
+  const double b = w.dot(Mvp), k = w.dot(Mw), dK = K_star - K_p;
+  const double disc = b * b + 2.0 * k * dK;
+  if (!(k > 0.0) || !(b > 0.0) || !(disc >= 0.0)) return out;
+  const double t = 2.0 * dK / (b + std::sqrt(disc));  // K_p + t b + ½ t² k = K*
+  if (!(std::abs(t) <= kMaxScale)) return out;
+  v = v_p + t * w;
+  out.applied = true;
+  out.energy_moved = dK;
+  return out;
+}
+
+template class PersistentVelocity<2>;
+template class PersistentVelocity<3>;
+
+}  // namespace conserve::contact

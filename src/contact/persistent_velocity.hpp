@@ -1,0 +1,66 @@
+#pragma once
+/// The velocity update of persistent contact (docs/theory.md, "Persistent
+/// contact"). The mid-point rule's end velocity V* = (2/Δt)Δu − V_n (19)
+/// reverses, step after step, any relative velocity a slave brought into
+/// its constraint: the constraint holds the slave's gap (stick: its point)
+/// at the end of every step, so Δg = 0 and ġ_{n+1} = −ġ_n. That parity
+/// mode makes the contact force alternate in sign and the node chatter
+/// (released and re-activated within a few steps). This update removes it
+/// and gives its energy back, after each converged step:
+///
+///  1. persistency: impulses P_c along each active constraint's gradient
+///     a_c (frictionless: the gap rate, a = (n, −N_b n); stick: the
+///     relative velocity, a = (1, −N_b 1)) set the relative velocity of
+///     every active slave to zero, A V_p = 0, with the lumped masses:
+///     V_p = V* + M_L⁻¹ Aᵀμ,  (A M_L⁻¹ Aᵀ) μ = −A V*. The impulses have no
+///     resultant and no moment (x_s − x̄ ∥ n), so L and J are kept; with a
+///     consistent M the rigid part of M(V_p − V*) is removed as well.
+///  2. energy: the kinetic energy the impulses took, K* − K_p, is given
+///     back by the smallest change of V_p in the kinetic (M-) norm that
+///     keeps A V = 0, L and J: V = V_p + t w, w = V_p minus its M-orthogonal
+///     projection on the rigid motions of the system (on V_p with the
+///     prescribed dofs zeroed if there are any, since a fixed support
+///     takes momentum), t the root of K(V_p + t w) = K* nearest 0.
+///
+/// The energy, L and J of the step are therefore those of V* exactly;
+/// what changes is where the kinetic energy sits: not in the reversal of
+/// the slaves' relative velocity, but in the motion of the bodies.
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "contact/constraint.hpp"
+#include "model/model.hpp"
+
+namespace conserve::contact {
+
+/// What one velocity update did.
+struct VelocityUpdate {
+  bool applied = false;       ///< false: V* kept (nothing to remove, or the energy could not be given back)
+  double removed = 0.0;       ///< largest relative velocity of an active slave removed [m/s]
+  double energy_moved = 0.0;  ///< K* − K_p, the kinetic energy given back [J]
+};
+
+template <int D>
+class PersistentVelocity {
+ public:
+  /// `mass` is the model's mass matrix (consistent or lumped), `model`
+  /// gives the prescribed dofs; both must outlive the object.
+  PersistentVelocity(const model::Model<D>& model, const SparseMatrix& mass);
+
+  /// Updates the end-of-step velocities `v` for the active constraints at
+  /// end positions `x` (see the file comment).
+  VelocityUpdate apply(const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
+                       const Positions<D>& x, Eigen::VectorXd& v) const;
+
+ private:
+  /// Rigid velocity fields at positions x, one per column: translations,
+  /// then rotations about the centroid.
+  [[nodiscard]] Eigen::MatrixXd rigid_modes(const Positions<D>& x) const;
+
+  const model::Model<D>& model_;
+  const SparseMatrix& mass_;
+  Eigen::VectorXd lumped_;      ///< per dof: the row sum of M (the lumped mass)
+  std::vector<char> prescribed_;  ///< per dof
+};
+
+}  // namespace conserve::contact
