@@ -240,10 +240,10 @@ TEST(FrictionlessContact, ThreeCylindersPassTheirMomentumAlong) {
 // not help and the run stops at [time].min_step in step 32. 1c39638, the
 // commit before, runs these 60 steps (E drift 7.8e-14). Found 2026-11-23
 // by bench/run_paper.sh; the regression is not in the solver (the LU with
-// full Newton fails the same way). The rings' outer surfaces share one
-// mesh, so slaves sit on their facets' edges, where the normal jumps and
-// the residual is not smooth (the tangent matches differences taken on one
-// side of the edge).
+// full Newton fails the same way). A rim slave sinks unseen past a tilted
+// border facet of the other ring and is activated 0.35 mm deep with a held
+// gap of 0, which its zero-work force cannot push out in one step
+// (docs/validation.md, §6.2).
 TEST(FrictionlessContact, TwoHollowCylindersThroughTheirFirstContactLong) {
   const char* opt_in = std::getenv("CONSERVE_LONG_TESTS");
   if (opt_in == nullptr || std::string(opt_in) != "1") GTEST_SKIP() << "set CONSERVE_LONG_TESTS=1 (fails today)";
