@@ -76,14 +76,67 @@ std::optional<Match<D>> ActiveSet<D>::search(const ContactPair<D>& pair, std::si
 }
 
 template <int D>
-bool ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
-                          StepContactStats& stats) {
+SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
+                               StepContactStats& stats) {
   ++stats.passes;
   const Positions<D> x_n = positions(u_n), x_np1 = positions(u_np1);
   const Positions<D> x_mid = 0.5 * (x_n + x_np1);
   const bool released = release_tensile(x_mid, g, stats);
-  const bool activated = activate_penetrating(x_n, x_np1, stats);
-  return released || activated;
+  const SetChange activated = activate_penetrating(x_n, x_np1, stats);
+  if (activated == SetChange::split) return activated;
+  return released || activated == SetChange::changed ? SetChange::changed : SetChange::none;
+}
+
+template <int D>
+void ActiveSet<D>::locate_impacts(double gap_tolerance) {
+  gap_tolerance_.clear();
+  if (!(gap_tolerance > 0.0)) return;
+  for (const ContactPair<D>& pair : pairs_) {
+    std::vector<double> tolerance(pair.slave.nodes.size(), 0.0);
+    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
+      for (int f : pair.slave.node_facets[i])
+        for (int a = 0; a < D; ++a)
+          for (int b = a + 1; b < D; ++b) {
+            const double edge = (model_.X.col(pair.slave.facets(a, f)) - model_.X.col(pair.slave.facets(b, f))).norm();
+            tolerance[i] = std::max(tolerance[i], gap_tolerance * edge);
+          }
+    gap_tolerance_.push_back(std::move(tolerance));
+  }
+}
+
+template <int D>
+double ActiveSet<D>::split_at(const Constraint<D>& c, const Match<D>& end) const {
+  const double tolerance = gap_tolerance(c.pair, c.slave);
+  if (!(c.gap > tolerance)) return 1.0;
+  // Along the straight path of the solve the gap falls from γ to the end
+  // gap; the step should end where it is half the tolerance.
+  return std::clamp((c.gap - 0.5 * tolerance) / (c.gap - end.projection.gap), 0.0, 1.0);
+}
+
+template <int D>
+double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u) {
+  if (gap_tolerance_.empty() || !allow_splits_) return 1.0;
+  const Positions<D> x_n = positions(u_n), x = positions(u);
+  double fraction = 1.0;
+  for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
+    ContactPair<D>& pair = pairs_[p];
+    pair.tree.refit(x);
+    const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
+    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
+      const int s = pair.slave.nodes[i];
+      if (prescribed_[s] || is_active_[s]) continue;
+      const auto match = search(pair, i, x, normals[i]);
+      if (match && match->projection.gap < -pair.search.penetration_tolerance)
+        fraction = std::min(fraction, split_at(make_constraint(p, s, *match, x_n, x), *match));
+    }
+  }
+  return fraction;
+}
+
+template <int D>
+double ActiveSet<D>::gap_tolerance(int pair, int slave) const {
+  if (gap_tolerance_.empty()) return std::numeric_limits<double>::infinity();
+  return gap_tolerance_[pair][static_cast<std::size_t>(pairs_[pair].slave.local_node(slave))];
 }
 
 // (46), (65): keep the constraint while f_N = g_s·n_{n+½} ≥ 0 (or while it
@@ -120,9 +173,12 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
 // the rules of max_penetration() and active_gaps(); when nothing changes,
 // this pass's u_{n+1} is the step's end and so is that geometry.
 template <int D>
-bool ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats) {
+SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1,
+                                             StepContactStats& stats) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   bool changed = false;
+  const bool split = allow_splits_ && !gap_tolerance_.empty();
+  std::vector<Constraint<D>> activated;
   double deepest = 0.0, min_gap = inf, max_gap = -inf;
   for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
     ContactPair<D>& pair = pairs_[p];
@@ -149,22 +205,29 @@ bool ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions
       max_gap = std::max(max_gap, gap);
     }
     for (const auto& [i, end] : found) {
-      const int s = pair.slave.nodes[i];
-      const Constraint<D> c = make_constraint(p, s, end, x_n, x_np1);
-      stats.max_activation_gap = std::max(stats.max_activation_gap, c.gap);
-      ++stats.activations;
-      if (released_[s]) held_[s] = 1, ++stats.held;
-      is_active_[s] = 1;
-      active_.push_back(c);
-      normal_forces_.push_back(0.0);
-      changed = true;
+      const Constraint<D> c = make_constraint(p, pair.slave.nodes[i], end, x_n, x_np1);
+      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(c, end));
+      is_active_[c.slave] = 1;  // not again for a later pair (a node on two slave surfaces)
+      activated.push_back(c);
     }
   }
   stats.max_penetration = deepest;
   const bool none = min_gap > max_gap;
   stats.min_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : min_gap;
   stats.max_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : max_gap;
-  return changed;
+  if (stats.split_fraction < 1.0) {
+    for (const Constraint<D>& c : activated) is_active_[c.slave] = 0;
+    return SetChange::split;
+  }
+  for (const Constraint<D>& c : activated) {
+    stats.max_activation_gap = std::max(stats.max_activation_gap, c.gap);
+    ++stats.activations;
+    if (released_[c.slave]) held_[c.slave] = 1, ++stats.held;
+    active_.push_back(c);
+    normal_forces_.push_back(0.0);
+    changed = true;
+  }
+  return changed ? SetChange::changed : SetChange::none;
 }
 
 // The facet the slave was found behind at the end of the step; its gap

@@ -33,6 +33,13 @@ struct StepContactStats {
   /// a node let go while it pressed.
   int loaded_releases = 0;
   VelocityUpdate velocity;       ///< the persistent-contact velocity update after the step
+  /// < 1: the step met an impact and was not taken; end it at this
+  /// fraction of its length instead (ActiveSet::locate_impacts).
+  double split_fraction = 1.0;
+  /// Earlier attempts of the step given up to end it at an impact, and the
+  /// solves (passes) they took (set by the stepper).
+  int splits = 0;
+  int split_passes = 0;
   double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   /// At the end of the step: the deepest slave behind a master facet,
   /// active or not (0 if none), and the extreme gaps of the active slaves
@@ -48,6 +55,13 @@ inline constexpr int kChatterWindow = 10;
 /// A release counts as loaded if the slave's force at the end of the
 /// previous step was above this fraction of the mean force then.
 inline constexpr double kLoadedFraction = 0.01;
+
+/// What ActiveSet::update did to the set.
+enum class SetChange {
+  none,     ///< settled: the solve is the step's
+  changed,  ///< slaves were activated or released: solve the step again
+  split,    ///< an impact within the step: end the step earlier (StepContactStats::split_fraction)
+};
 
 /// The deepest penetration found by ActiveSet::max_penetration.
 struct Penetration {
@@ -86,12 +100,36 @@ class ActiveSet {
                                            std::shared_ptr<TangentReduction<D>> reduction = nullptr);
 
   /// After a converged solve of u_n → u_{n+1} with full residual g: updates
-  /// the set; true if it changed (then solve the step again). Sets the
-  /// stats' end-of-step geometry (max_penetration, active gaps) at u_{n+1}
-  /// for the set after its releases, from the same search as the
-  /// activations: when the set did not change, that is the step's end.
-  bool update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
-              StepContactStats& stats);
+  /// the set (then solve the step again if it changed). Sets the stats'
+  /// end-of-step geometry (max_penetration, active gaps) at u_{n+1} for
+  /// the set after its releases, from the same search as the activations:
+  /// when the set did not change, that is the step's end. With impacts
+  /// located, a slave found behind its master that started the step
+  /// further than its gap tolerance in front of it is not activated:
+  /// the result is `split`, and stats.split_fraction is where the step
+  /// should end for the earliest such slave to arrive at half its
+  /// tolerance, by the straight path of this solve (the set is then
+  /// left as the caller must restore it: the step is taken again).
+  SetChange update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
+                   StepContactStats& stats);
+
+  /// With impacts located: where the step u_n → u should end for the
+  /// earliest slave found behind its master at u that started the step
+  /// further out than its tolerance to arrive at half of it (as update()
+  /// would say), 1 if none; the set is not changed.
+  [[nodiscard]] double split_fraction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u);
+
+  /// Impacts located in time ([active_set] locate_impacts): slaves are
+  /// activated with a gap of at most `gap_tolerance` × (the longest edge
+  /// of their slave facets), a step that would activate one further out
+  /// being split (update()); 0 turns it off (the paper's activation).
+  void locate_impacts(double gap_tolerance);
+  /// Whether update() may ask for a split (the stepper forbids it once a
+  /// step has been split too often or would become too short).
+  void allow_splits(bool allow) { allow_splits_ = allow; }
+  /// The largest gap slave node `slave` of pair `pair` is activated with
+  /// when impacts are located [m] (+∞ when they are not).
+  [[nodiscard]] double gap_tolerance(int pair, int slave) const;
 
   /// Replaces the active set (restoring a checkpoint or a failed step's
   /// start); the per-node flags follow, the normal forces are the constraints'
@@ -110,9 +148,12 @@ class ActiveSet {
 
  private:
   bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats);
-  bool activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats);
+  SetChange activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats);
   /// The constraint that makes slave s of pair p hold what it had at the
   /// start of the step; `end` is the facet it was found behind at the end.
+  /// Where the step should end for slave `c` (just made, with its end
+  /// match `end`) to arrive at half its tolerance; 1 if it starts within it.
+  [[nodiscard]] double split_at(const Constraint<D>& c, const Match<D>& end) const;
   [[nodiscard]] Constraint<D> make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                               const Positions<D>& x_np1) const;
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
@@ -131,6 +172,10 @@ class ActiveSet {
   std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step
+  /// Per pair, per slave node (local): the largest gap it is activated
+  /// with; empty when impacts are not located.
+  std::vector<std::vector<double>> gap_tolerance_;
+  bool allow_splits_ = true;
 };
 
 }  // namespace conserve::contact

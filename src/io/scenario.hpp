@@ -77,6 +77,12 @@ struct ActiveSetSpec {
   /// slaves is set to zero and its energy given back (contact/
   /// persistent_velocity.hpp); `paper`: the mid-point velocity (19) only.
   ContactScheme scheme = ContactScheme::paper;
+  /// End a step early at an impact, so that a slave is activated with a
+  /// gap of at most gap_tolerance × (its slave facets' longest edge).
+  /// Off by default: with the paper's velocity every activation bounces
+  /// the slave off and each return is another split (docs/validation.md §7).
+  bool locate_impacts = false;
+  double gap_tolerance = 1e-3;
 };
 
 /// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for

@@ -67,6 +67,8 @@ ActiveSetSpec parse_active_set(const Section& active_set) {
   ActiveSetSpec spec;
   spec.max_passes = active_set.integer("max_passes");
   spec.scheme = active_set.string("scheme") == "persistent" ? ContactScheme::persistent : ContactScheme::paper;
+  spec.locate_impacts = active_set.boolean("locate_impacts");
+  spec.gap_tolerance = active_set.number("gap_tolerance");
   return spec;
 }
 

@@ -375,6 +375,22 @@ SectionSpec active_set_section() {
                       "zero and its kinetic energy given back to the bodies' motion, so that nodes in sustained "
                       "contact do not chatter (E, L, J kept exactly; docs/theory.md); `paper`: the mid-point "
                       "velocity alone, as in the paper"},
+              {.name = "locate_impacts",
+               .type = KeyType::boolean,
+               .default_value = "false",
+               .doc = "end a step early where a slave would meet its master with a gap above `gap_tolerance`, "
+                      "and take the rest of the step after it, so that contact takes hold at the crossing (no "
+                      "hovering gap; variable steps conserve as fixed ones, docs/theory.md); use it with "
+                      "`scheme = \"persistent\"`: with the paper's velocity, slaves bounce off at every "
+                      "activation and each return is another split; `false`: a slave is activated holding "
+                      "the gap it had at the start of the step, as in the paper"},
+              {.name = "gap_tolerance",
+               .type = KeyType::number,
+               .default_value = "1e-3",
+               .min = above(0),
+               .max = below(1),
+               .doc = "largest gap a slave may be activated with, as a fraction of the longest edge of its "
+                      "slave facets (with `locate_impacts`)"},
           }};
 }
 

@@ -18,8 +18,9 @@ namespace {
 
 constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 2: 64-bit step and counters, the fingerprint's named entries instead of
-/// one hash.
-constexpr std::uint32_t kVersion = 3;
+/// one hash. 3: the constraints' activation step and normal force. 4: the
+/// end of a step cut short at an impact.
+constexpr std::uint32_t kVersion = 4;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -131,6 +132,8 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(static_cast<std::int64_t>(t.held));
   w.value(static_cast<std::int64_t>(t.chatter));
   w.value(static_cast<std::int64_t>(t.loaded_releases));
+  w.value(static_cast<std::int64_t>(t.splits));
+  w.value(static_cast<std::int64_t>(t.split_passes));
   w.value(t.max_activation_gap);
   for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
                    t.min_det_F})
@@ -149,6 +152,8 @@ RunTotals read_totals(Reader& r) {
   t.held = r.value<std::int64_t>();
   t.chatter = r.value<std::int64_t>();
   t.loaded_releases = r.value<std::int64_t>();
+  t.splits = r.value<std::int64_t>();
+  t.split_passes = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
   for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
                     &t.max_penetration, &t.min_det_F})
@@ -197,6 +202,8 @@ void RunTotals::add(const contact::StepContactStats& c) {
   held += c.held;
   chatter += c.chatter;
   loaded_releases += c.loaded_releases;
+  splits += c.splits;
+  split_passes += c.split_passes;
   max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
   max_penetration = std::max(max_penetration, c.max_penetration);
   if (!std::isnan(c.min_active_gap)) {
@@ -245,6 +252,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
   w.value(static_cast<std::int64_t>(c.control.cutbacks));
+  w.value(c.control.step_end);
   write_totals(w, c.totals);
   w.value(static_cast<std::uint64_t>(c.constraints.size()));
   for (const auto& constraint : c.constraints) write_constraint<D>(w, constraint);
@@ -289,6 +297,7 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
   c.control.cutbacks = r.value<std::int64_t>();
+  c.control.step_end = r.value<double>();
   c.totals = read_totals(r);
   const auto count = r.value<std::uint64_t>();
   if (count > static_cast<std::uint64_t>(model.num_nodes())) r.fail("more constraints than nodes");

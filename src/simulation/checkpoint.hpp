@@ -31,6 +31,8 @@ struct RunTotals {
   std::int64_t held = 0;  ///< released slaves re-activated and held within their step
   std::int64_t chatter = 0;          ///< releases within contact::kChatterWindow steps of the activation
   std::int64_t loaded_releases = 0;  ///< releases of slaves that pressed at the previous step's end
+  std::int64_t splits = 0;           ///< attempts given up to end a step at an impact
+  std::int64_t split_passes = 0;     ///< solves of those attempts
   double max_activation_gap = 0.0;
   /// Extremes over the steps: gaps of the active slaves (NaN while none
   /// was ever active) and the deepest penetration [m]; smallest det F.
@@ -50,6 +52,9 @@ struct StepControl {
   double dt = 0.0;            ///< the step size to try next [s]
   int good_steps = 0;         ///< converged steps since the last change of dt
   std::int64_t cutbacks = 0;  ///< failed attempts over the run
+  /// While above the state's time: the end of a step cut short at an
+  /// impact, which the next step goes on to [s].
+  double step_end = 0.0;
 };
 
 template <int D>

@@ -151,6 +151,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.held = totals.held;
   summary.chatter = totals.chatter;
   summary.loaded_releases = totals.loaded_releases;
+  summary.splits = totals.splits;
+  summary.split_passes = totals.split_passes;
   summary.min_active_gap = totals.min_active_gap;
   summary.max_active_gap = totals.max_active_gap;
   summary.max_penetration = totals.max_penetration;

@@ -45,16 +45,47 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
                                                          linear_settings(scenario.solver))),
       control_{.dt = scenario.time.step} {
   integrator_->set_persistent_contact(scenario.active_set.scheme == io::ContactScheme::persistent);
+  contacts_->locate_impacts(scenario.active_set.locate_impacts ? scenario.active_set.gap_tolerance : 0.0);
 }
 
 template <int D>
 StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failures) {
   const std::vector<contact::Constraint<D>> saved = contacts_->constraints();
   failures = 0;
+  // What is left of a step cut short at an impact is taken next, so that
+  // the steps come back to the grid of Δt; a rest below a quarter of Δt
+  // is taken together with the following step.
+  double dt = control_.dt;
+  if (control_.step_end > state.time) {
+    dt = control_.step_end - state.time;
+    if (dt < 0.25 * control_.dt) {
+      control_.step_end += control_.dt;
+      dt += control_.dt;
+    }
+  }
+  int splits = 0, split_passes = 0;
+  bool locate = true;
   for (;;) {
+    contacts_->allow_splits(locate && splits < kMaxSplits);
     try {
-      dt_used = control_.dt;
-      StepRecord record{integrator_->step(state, dt_used), integrator_->contact_stats()};
+      dt_used = dt;
+      const solver::NewtonReport report = integrator_->step(state, dt);
+      contact::StepContactStats stats = integrator_->contact_stats();
+      if (stats.split_fraction < 1.0) {  // an impact within the step: end the step there
+        if (!(control_.step_end > state.time)) control_.step_end = state.time + dt;
+        contacts_->set_constraints(saved);
+        ++splits;
+        split_passes += stats.passes;
+        const double shorter = dt * stats.split_fraction;
+        if (shorter >= scenario_.time.min_step)
+          dt = shorter;
+        else
+          locate = false;  // activate with the gap it has rather than step below the floor
+        continue;
+      }
+      stats.splits = splits;
+      stats.split_passes = split_passes;
+      StepRecord record{report, stats};
       if (++control_.good_steps >= StepControl::kGrowAfter && control_.dt < scenario_.time.step) {
         control_.dt = std::min(2.0 * control_.dt, scenario_.time.step);
         control_.good_steps = 0;
@@ -65,11 +96,13 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       last_failure_ = e.what();
       contacts_->set_constraints(saved);
       integrator_->drop_factorization();
-      if (0.5 * control_.dt < scenario_.time.min_step) throw FloorReached(e.what(), control_.dt);
-      control_.dt *= 0.5;
+      if (0.5 * dt < scenario_.time.min_step) throw FloorReached(e.what(), dt);
+      control_.dt = 0.5 * dt;
+      control_.step_end = 0.0;  // the grid starts again from this step
       control_.good_steps = 0;
       ++control_.cutbacks;
       ++failures;
+      dt = control_.dt;
     }
   }
 }

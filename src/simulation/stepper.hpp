@@ -59,12 +59,18 @@ class Stepper {
   /// One converged step from `state`: retried from the same state (and the
   /// same active set) with Δt halved after each failure; Δt doubles back
   /// towards the scenario's after StepControl::kGrowAfter good steps.
-  /// `dt_used` and `failures` tell what it took. Throws FloorReached.
+  /// With impacts located, a step that meets an impact is retried ending
+  /// where the integrator says (at most kMaxSplits times), and the rest
+  /// of it is the next step. `dt_used` and `failures` tell what it took.
+  /// Throws FloorReached.
   StepRecord advance(model::State& state, double& dt_used, int& failures);
   /// Why the last failed attempt of advance() failed (empty if none has).
   [[nodiscard]] const std::string& last_failure() const { return last_failure_; }
 
  private:
+  /// Attempts of one step given up to end it at an impact before the
+  /// slaves are activated with whatever gap they have.
+  static constexpr int kMaxSplits = 8;
   const io::Scenario& scenario_;
   Problem<D> problem_;
   std::unique_ptr<assembly::Assembler<D>> assembler_;

@@ -37,6 +37,8 @@ Json figures(const RunSummary& s, int unknowns) {
               {"releases", s.releases},
               {"chatter", s.chatter},
               {"loaded_releases", s.loaded_releases},
+              {"impact_splits", s.splits},
+              {"impact_split_passes", s.split_passes},
               {"max_activation_gap", s.max_activation_gap},
               {"seconds",
                {{"assembly", t.assembly},

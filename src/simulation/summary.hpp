@@ -31,6 +31,8 @@ struct RunSummary {
   std::int64_t held = 0;            ///< released slaves re-activated and held within their step
   std::int64_t chatter = 0;         ///< releases within contact::kChatterWindow steps of the activation
   std::int64_t loaded_releases = 0; ///< releases of slaves that pressed at the end of the previous step
+  std::int64_t splits = 0;          ///< attempts of steps given up to end them at an impact
+  std::int64_t split_passes = 0;    ///< solves of those attempts (beyond the steps' own)
   double min_active_gap = 0.0;      ///< smallest gap of an active slave at a step's end [m] (NaN: none)
   double max_active_gap = 0.0;      ///< largest gap of an active slave at a step's end [m] (NaN: none)
   double max_penetration = 0.0;     ///< deepest slave behind its master at a step's end [m]

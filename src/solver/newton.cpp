@@ -145,6 +145,11 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
     }
     report.residual_norms.push_back(r_new);
     report.floor = problem.residual_floor();
+    if (problem.abandon(r_new, scale)) {
+      report.abandoned = true;
+      report.failure = "abandoned by the problem";
+      return report;
+    }
     forcing.observe(r_old, linear.residual, report.residual_norms.back(), report.tolerance);
     if (nonlinearity) *nonlinearity = forcing.nonlinearity();
     refactor = !keep_tangent(report, settings);

@@ -31,6 +31,11 @@ class NewtonProblem {
   /// force_scale; infinite when nothing moves): it is a solution only if it
   /// is at most floor_limit times this.
   [[nodiscard]] virtual double floor_scale() const { return force_scale(); }
+  /// Called after each iteration with the new residual's norm and the
+  /// force scale [N]: true ends the iteration unconverged, as abandoned
+  /// (a problem that can tell from an iterate that its solution will not
+  /// be used).
+  virtual bool abandon(double /*residual*/, double /*force_scale*/) { return false; }
 };
 
 struct NewtonSettings {
@@ -85,6 +90,7 @@ struct NewtonReport {
   /// iterations, a non-finite residual, increment or force scale, or a
   /// floor above floor_limit · force_scale.
   std::string failure;
+  bool abandoned = false;  ///< ended by NewtonProblem::abandon
   [[nodiscard]] double final_residual() const { return residual_norms.empty() ? 0.0 : residual_norms.back(); }
 };
 

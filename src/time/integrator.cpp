@@ -61,12 +61,27 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     const bool plain = !elimination || elimination->empty();
     StepProblem<D> problem(assembler_, mask_, terms_, state, dt, u_np1, K_, elimination ? &*elimination : nullptr);
     problem.set_timings(&timings_);
+    // A solve that will end in a split need not converge: abandoned once
+    // its iterate shows the impact (the fraction then comes from it).
+    double early_split = 1.0;
+    if (contacts_)
+      problem.check_iterate([&](const Eigen::VectorXd& u) {
+        solver::ScopedTimer timer(timings_.contact_search);
+        early_split = contacts_->split_fraction(state.u, u);
+        return early_split < 1.0;
+      });
     // A factorization of the plain system stays usable while no constraint
     // is active; a reduced system's T changes from pass to pass.
     const int setups = timings_.linear_setups;
     const solver::NewtonReport report =
         solver::solve_newton(problem, *solver_, newton_, plain && plain_factorization_, &nonlinearity_);
     if (timings_.linear_setups != setups) plain_factorization_ = plain;
+    if (report.abandoned) {  // not taken: the caller ends it earlier
+      ++stats_.passes;
+      stats_.split_fraction = early_split;
+      total.converged = false;
+      return total;
+    }
     if (!report.converged) throw SolverError(not_converged(report, state.step + 1, t_np1));
     total.converged = true;
     total.iterations += report.iterations;
@@ -75,10 +90,16 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     total.residual_norms = report.residual_norms;
     total.tolerance = report.tolerance;
     total.floor = report.floor;
-    {
+    contact::SetChange change = contact::SetChange::none;
+    if (contacts_) {
       solver::ScopedTimer timer(timings_.contact_search);
-      again = contacts_ && contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
+      change = contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
     }
+    if (change == contact::SetChange::split) {  // not taken: the caller ends it earlier
+      total.converged = false;
+      return total;
+    }
+    again = change == contact::SetChange::changed;
     if (again && stats_.passes >= max_passes_)
       throw SolverError(fmt::format(
           "the contact active set did not settle in step {} (t = {:.6g} s) after {} passes "

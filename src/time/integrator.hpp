@@ -35,6 +35,10 @@ class Integrator {
   /// the step if Newton does not converge (and why), if the active set does
   /// not settle in max_passes, or if a cell ends the step inverted
   /// (det F ≤ 0, naming body and cell); the state is then left unchanged.
+  /// With impacts located (ActiveSet::locate_impacts), a step that meets
+  /// an impact is not taken either: the report is not converged and
+  /// contact_stats().split_fraction < 1 tells where the step should end;
+  /// the caller restores the active set and steps again with that Δt.
   solver::NewtonReport step(model::State& state, double dt);
 
   /// Forgets the matrix kept for reuse (modified Newton) and what the

@@ -51,6 +51,13 @@ void StepProblem<D>::take_scales() {
 }
 
 template <int D>
+bool StepProblem<D>::abandon(double residual, double force_scale) {
+  if (!check_ || checked_ || !(residual <= kCheckResidual * force_scale)) return false;
+  checked_ = true;
+  return check_(u_np1_);
+}
+
+template <int D>
 double StepProblem<D>::floor_scale() const {
   // Motion below the round-off of the positions does no work (a body at
   // rest: every scale is round-off there).

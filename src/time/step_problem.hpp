@@ -6,6 +6,7 @@
 /// constraints the unknowns are the reduced q of the direct elimination
 /// (Δu = T q, r = Wᵀ g, K_r = Wᵀ K T + V + β); without, q = Δu. Prescribed
 /// dofs carry their prescribed value; their rows are trivial.
+#include <functional>
 #include <optional>
 
 #include "assembly/assembler.hpp"
@@ -52,6 +53,13 @@ class StepProblem final : public solver::NewtonProblem {
   /// the force scale, or (K_n + W_n + |Π_n|)/|Δu| if larger (infinite when
   /// nothing moves beyond the round-off of the positions: no work is done).
   [[nodiscard]] double floor_scale() const override;
+  /// Once the residual is below kCheckResidual × the force scale, the
+  /// iterate is shown once to the check set by check_iterate(): the
+  /// iteration is abandoned if it returns true.
+  bool abandon(double residual, double force_scale) override;
+  /// The check of abandon(), given the iterate u_{n+1} (may be empty: none).
+  void check_iterate(std::function<bool(const Eigen::VectorXd&)> check) { check_ = std::move(check); }
+  static constexpr double kCheckResidual = 1e-6;
   /// The full residual g at the last residual() call: on an active slave,
   /// the contact force it receives (33) [N].
   [[nodiscard]] const Eigen::VectorXd& full_residual() const { return g_; }
@@ -81,6 +89,8 @@ class StepProblem final : public solver::NewtonProblem {
   double motion_ = 0.0;    ///< |Δu| over the free dofs at the last residual [m]
   double floor_ = 0.0;
   solver::Timings* timings_ = nullptr;
+  std::function<bool(const Eigen::VectorXd&)> check_;
+  bool checked_ = false;
   double unused_ = 0.0;
   double& clock(double solver::Timings::*phase) { return timings_ ? timings_->*phase : unused_; }
 };

@@ -20,6 +20,7 @@ struct ContactRun {
   contact::ActiveSet<D>* contacts;
   time::Integrator<D>* integrator;
   model::State state;
+  simulation::StepRecord last;  ///< what the last step() did
 
   explicit ContactRun(const std::string& toml)
       : scenario(io::parse_scenario(toml, "test.toml")),
@@ -37,7 +38,8 @@ struct ContactRun {
   solver::NewtonReport step() {
     double dt = 0.0;
     int failures = 0;
-    return stepper->advance(state, dt, failures).newton;
+    last = stepper->advance(state, dt, failures);
+    return last.newton;
   }
   [[nodiscard]] time::Diagnostics diagnostics() const { return time::diagnostics<D>(*assembler, state); }
   [[nodiscard]] contact::Positions<D> positions() const {

@@ -22,7 +22,8 @@ inline bool long_tests() {
   return v != nullptr && std::string(v) == "1";
 }
 
-/// Per step: time at the end of the step, L_x of every bar, Σ f_N, active count.
+/// Per step: time at the end of the step (time[0] = 0: the start), L_x of
+/// every bar, Σ f_N, active count. Steps may vary (impacts located).
 struct BarHistory {
   std::vector<double> time, force;
   std::vector<std::vector<double>> momentum;  ///< [step][bar]
@@ -35,8 +36,15 @@ template <int D>
 BarHistory run_bars(const Bars& bars) {
   ContactRun<D> run(bars_scenario(bars));
   BarHistory h;
-  const int steps = static_cast<int>(std::lround(bars.end / bars.step));
-  for (int n = 0; n < steps; ++n) {
+  h.time.push_back(run.state.time);
+  h.force.push_back(0.0);
+  h.active.push_back(0);
+  {
+    std::vector<double> l;
+    for (const Vec3& b : run.diagnostics().body_linear) l.push_back(b.x());
+    h.momentum.push_back(l);
+  }
+  while (run.state.time < bars.end - 1e-9 * bars.step) {
     run.step();
     const auto& stats = run.integrator->contact_stats();
     h.activations += stats.activations;
@@ -85,11 +93,11 @@ inline Impact first_impact(const BarHistory& h, const Bars& bars, int k) {
     }
   }
   if (first < 0) return imp;
-  imp.start = h.time[first] - bars.step;
+  imp.start = h.time[first - 1];
   imp.end = h.time[last];
   const int lo = first + (last - first) / 4, hi = last - (last - first) / 4;
   for (int n = lo; n <= hi; ++n) {
-    imp.momentum_stress += (h.momentum[n][k] - h.momentum[n - 1][k]) / bars.step / bars.area();
+    imp.momentum_stress += (h.momentum[n][k] - h.momentum[n - 1][k]) / (h.time[n] - h.time[n - 1]) / bars.area();
     imp.force_stress += h.force[n] / bars.area();
   }
   imp.momentum_stress /= (hi - lo + 1);
@@ -98,14 +106,14 @@ inline Impact first_impact(const BarHistory& h, const Bars& bars, int k) {
 }
 
 /// Steps during which some constraint was active, from the first to the last.
-inline double active_span(const BarHistory& h, double step) {
+inline double active_span(const BarHistory& h) {
   int first = -1, last = -1;
-  for (std::size_t n = 0; n < h.active.size(); ++n)
+  for (std::size_t n = 1; n < h.active.size(); ++n)
     if (h.active[n] > 0) {
       if (first < 0) first = static_cast<int>(n);
       last = static_cast<int>(n);
     }
-  return first < 0 ? 0.0 : h.time[last] - h.time[first] + step;
+  return first < 0 ? 0.0 : h.time[last] - h.time[first - 1];
 }
 
 }  // namespace conserve::test

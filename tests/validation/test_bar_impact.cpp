@@ -31,7 +31,7 @@ Errors check_two_bars(const Bars& bars, const char* label) {
       "dL_B/dt %.4e Pa vs rho c v0/2 %.4e Pa (error %+.2f %%), from sum f_N %.4e Pa (%+.1f %%); %d activations, "
       "%d releases, at most %.0f passes per step\n",
       D, label, bars.size, bars.step, t_ref / bars.step, imp.duration(), t_ref, 100 * e.duration,
-      active_span(h, bars.step), e.exit_a, e.exit_b, imp.momentum_stress, sigma_ref, 100 * e.stress, imp.force_stress,
+      active_span(h), e.exit_a, e.exit_b, imp.momentum_stress, sigma_ref, 100 * e.stress, imp.force_stress,
       100 * (imp.force_stress - sigma_ref) / sigma_ref, h.activations, h.releases, h.max_passes);
   return e;
 }

@@ -1,0 +1,135 @@
+// Impacts located in time ([active_set] locate_impacts): a step in which a
+// slave would meet its master from further than its gap tolerance is ended
+// at the crossing and the rest of it taken after, so that every slave is
+// activated with a gap below the tolerance (no hovering), and the variable
+// steps conserve as the fixed ones do. Each test runs the paper's
+// activation (locate_impacts = false) as its negative control.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "contact/search.hpp"
+#include "support/contact_run.hpp"
+#include "support/contact_scenarios.hpp"
+
+namespace conserve {
+namespace {
+
+using test::ContactRun;
+
+/// Located impacts with the persistent-contact velocity, or (the control)
+/// the paper's activation and velocity.
+std::string with_location(const std::string& toml, bool locate) {
+  return toml + "[active_set]\n" + (locate ? "locate_impacts = true\nscheme = \"persistent\"\n" : "");
+}
+
+struct Measured {
+  double energy = 0.0, linear = 0.0, angular = 0.0;
+  double max_gap = 0.0;           ///< largest gap of an active slave at a step's end [m]
+  double max_gap_ratio = 0.0;     ///< the same over the slave's gap tolerance
+  double min_gap = 0.0;           ///< smallest (negative: behind its master) [m]
+  double shortest = 1e300, longest = 0.0;
+  int steps = 0, steps_in_contact = 0, splits = 0, split_passes = 0, passes = 0;
+  double end_time = 0.0;
+};
+
+/// Runs to the scenario's end time, measuring after every step the gap of
+/// each active slave on its constraint's facet (where the constraint holds
+/// it) against the slave's own tolerance.
+template <int D>
+Measured run_and_measure(const std::string& toml) {
+  ContactRun<D> run(toml);
+  const auto d0 = run.diagnostics();
+  Measured m;
+  const double L_ref = d0.linear.norm();
+  double E_ref = std::abs(d0.total);
+  double t = run.state.time;
+  while (run.state.time < run.scenario.time.end - 1e-9 * run.scenario.time.step) {
+    run.step();
+    const double dt = run.state.time - t;
+    t = run.state.time;
+    m.shortest = std::min(m.shortest, dt);
+    m.longest = std::max(m.longest, dt);
+    ++m.steps;
+    const auto d = run.diagnostics();
+    const auto& s = run.last.contact;
+    m.splits += s.splits;
+    m.split_passes += s.split_passes;
+    m.passes += s.passes;
+    E_ref = std::max(E_ref, d.kinetic + d.strain);
+    m.energy = std::max(m.energy, std::abs(d.total - d0.total) / E_ref);
+    m.linear = std::max(m.linear, (d.linear - d0.linear).norm() / std::max(L_ref, 1e-300));
+    m.angular = std::max(m.angular, (d.angular - d0.angular).norm() / std::max(L_ref * run.problem.model.size(), 1e-300));
+    const auto x = run.positions();
+    if (!run.contacts->constraints().empty()) ++m.steps_in_contact;
+    for (const auto& c : run.contacts->constraints()) {
+      const auto& pair = run.contacts->pairs()[c.pair];
+      const double gap = contact::project<D>(x.col(c.slave), contact::facet_nodes<D>(pair.master, c.facet, x)).gap;
+      m.max_gap = std::max(m.max_gap, gap);
+      m.min_gap = std::min(m.min_gap, gap);
+      m.max_gap_ratio = std::max(m.max_gap_ratio, gap / run.contacts->gap_tolerance(c.pair, c.slave));
+    }
+  }
+  m.end_time = run.state.time;
+  return m;
+}
+
+void print(const char* name, const Measured& located, const Measured& paper) {
+  std::printf("[ measured ] %s: largest active gap %.2e m = %.3f tolerance (paper %.2e m), smallest %.2e m; "
+              "drift E %.2e L %.2e J %.2e (paper %.2e %.2e %.2e); %d steps (paper %d), Δt %.3g…%.3g s, %d split "
+              "attempts with %d solves beside %d solves of the steps (paper %d)\n",
+              name, located.max_gap, located.max_gap_ratio, paper.max_gap, located.min_gap, located.energy,
+              located.linear, located.angular, paper.energy, paper.linear, paper.angular, located.steps, paper.steps,
+              located.shortest, located.longest, located.splits, located.split_passes, located.passes, paper.passes);
+}
+
+/// Both runs: contact happened, the paper's run hovers by far more than the
+/// tolerance (the control), the located run holds every active slave within
+/// its tolerance and never behind its master, ends at the end time (the
+/// steps came back to the grid), and conserves E (and, between free bodies,
+/// L and J for frictionless, L for stick) to round-off.
+void expect_located(const Measured& located, const Measured& paper, double end, bool free_bodies, bool angular) {
+  ASSERT_GT(located.steps_in_contact, 3);
+  ASSERT_GT(paper.steps_in_contact, 3);
+  EXPECT_GT(paper.max_gap, 1e-4);  // the control: the gap at the start of the activation step, held
+  EXPECT_GT(located.splits, 0);
+  EXPECT_LE(located.max_gap_ratio, 1.0);
+  EXPECT_GE(located.min_gap, -1e-12);
+  EXPECT_LT(located.shortest, 0.99 * located.longest);  // the steps did vary
+  EXPECT_NEAR(located.end_time, end, 1e-9 * end);
+  EXPECT_LT(located.energy, 1e-12);
+  if (free_bodies) EXPECT_LT(located.linear, 1e-12);
+  if (angular) EXPECT_LT(located.angular, 1e-12);
+}
+
+// A box hits a bigger one flat and off-centre, 1.5 mm away at 2 m/s with
+// Δt = 2 ms: its face crosses 0.75 ms into the first step.
+TEST(LocatedImpacts, FlatHitOfFreeBoxes) {
+  for (const char* kind : {"frictionless", "stick"}) {
+    const std::string toml = test::two_boxes(kind, 0.1);
+    const Measured located = run_and_measure<3>(with_location(toml, true));
+    const Measured paper = run_and_measure<3>(with_location(toml, false));
+    print(kind, located, paper);
+    expect_located(located, paper, 0.1, true, std::string(kind) == "frictionless");
+  }
+}
+
+// A sphere (2D: disc) glances off a bigger one: its nodes meet the master's
+// facets at many different times, each located.
+TEST(LocatedImpacts, GlancingSpheres) {
+  for (int dim : {2, 3}) {
+    const std::string toml = test::glancing_spheres(dim, "frictionless", 0.04);
+    const Measured located = dim == 2 ? run_and_measure<2>(with_location(toml, true))
+                                      : run_and_measure<3>(with_location(toml, true));
+    const Measured paper = dim == 2 ? run_and_measure<2>(with_location(toml, false))
+                                    : run_and_measure<3>(with_location(toml, false));
+    print(dim == 2 ? "glancing discs" : "glancing spheres", located, paper);
+    expect_located(located, paper, 0.04, true, true);
+  }
+}
+
+}  // namespace
+}  // namespace conserve
