@@ -8,7 +8,9 @@
 /// that no slave ends a converged step behind its master. A slave is
 /// activated holding the gap it had at the start of the step (≥ 0), see
 /// contact/elimination.hpp. The caller solves the step again while the set
-/// changes.
+/// changes. With impacts located (locate_impacts), a slave that would
+/// start further out than its tolerance is not activated: the step is
+/// split at its crossing instead (update() returns SetChange::split).
 #include <limits>
 #include <vector>
 

@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -68,6 +70,32 @@ TEST(Restart, FrictionlessContactHistoryIsBitIdentical) {
 TEST(Restart, StickContactHistoryIsBitIdentical) {
   // Checkpoint 75 has one stuck slave; another sticks after the restart.
   expect_identical_after_restart("restart_ball", kBallOnPlane, 80, 75);
+}
+
+// With impacts located, a checkpoint written after a step cut short at an
+// impact must carry where that step was to end: the restarted run takes
+// the same rest of it (checkpoint format 4, StepControl::step_end).
+TEST(Restart, LocatedImpactHistoryIsBitIdentical) {
+  const std::string scenario = glancing_spheres(2, "frictionless", 0.05) +
+                               "[active_set]\nscheme = \"persistent\"\nlocate_impacts = true\n"
+                               "[output]\nvtu_every = 0\ncheckpoint_every = 1\ncheckpoint_keep = 0\n";
+  const auto dir = scratch("restart_located_probe");
+  write_file(dir / "s.toml", scenario);
+  ASSERT_EQ(run_cli("run s.toml -q -o probe", dir).exit_code, 0);
+  // The first step that ends off the grid of Δt = 5e-4 s: a cut step.
+  std::istringstream rows(slurp(dir / "probe/steps.csv"));
+  std::string line;
+  std::getline(rows, line);  // header
+  int cut = -1;
+  while (cut < 0 && std::getline(rows, line)) {
+    int step = 0;
+    double time = 0.0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%lf", &step, &time), 2) << line;
+    const double on_grid = std::round(time / 5e-4) * 5e-4;
+    if (std::abs(time - on_grid) > 1e-9) cut = step;
+  }
+  ASSERT_GT(cut, 0) << "no step was cut short at an impact";
+  expect_identical_after_restart("restart_located", scenario, cut + 3, cut);
 }
 
 /// Restarts from step 10 of kGlancingDiscs with `other` (kGlancingDiscs
