@@ -25,6 +25,7 @@ struct Bars {
   double young = 1.0e9;    ///< E [Pa]
   double density = 1.0e3;  ///< ρ [kg/m³]
   std::string directory = "out/validation/bars";
+  std::string active_set;  ///< keys of an [active_set] table (none: the defaults)
 
   [[nodiscard]] double wave_speed() const;
   [[nodiscard]] double area() const { return dimension == 3 ? width * width : width; }
@@ -61,6 +62,7 @@ inline std::string bars_scenario(const Bars& b) {
   for (int k = 0; k + 1 < b.count; ++k)
     s += fmt::format("\n[[contact]]\nslave = \"{}:xmax\"\nmaster = \"{}:xmin\"\nkind = \"frictionless\"\n", bar_name(k),
                      bar_name(k + 1));
+  if (!b.active_set.empty()) s += "\n[active_set]\n" + b.active_set + "\n";
   return s;
 }
 
