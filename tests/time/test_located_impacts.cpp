@@ -133,3 +133,30 @@ TEST(LocatedImpacts, GlancingSpheres) {
 
 }  // namespace
 }  // namespace conserve
+
+namespace conserve {
+namespace {
+
+// A split that would take the step below [time].min_step is not made: the
+// step is taken whole and its slaves activated with the gap they have,
+// conserving as the paper's activation does.
+TEST(LocatedImpacts, NoSplitBelowTheMinimumStep) {
+  const std::string toml = with_location(test::glancing_spheres(2, "frictionless", 0.04), true);
+  const std::string floor = "[time]\nstep = 5e-4\n";
+  ASSERT_NE(toml.find(floor), std::string::npos);
+  std::string high_floor = toml;
+  high_floor.replace(high_floor.find(floor), floor.size(), floor + "min_step = 4.99e-4\n");
+  const Measured m = run_and_measure<2>(high_floor);
+  std::printf("[ measured ] glancing discs, min_step just below Δt: largest active gap %.2e m = %.1f tolerance, %d "
+              "attempts given up, %d steps, drift E %.2e\n",
+              m.max_gap, m.max_gap_ratio, m.splits, m.steps, m.energy);
+  ASSERT_GT(m.steps_in_contact, 3);
+  EXPECT_GT(m.splits, 0);             // the impacts were found …
+  EXPECT_GT(m.max_gap_ratio, 1.0);    // … but not located: the steps stayed whole
+  EXPECT_EQ(m.steps, 80);
+  EXPECT_GE(m.min_gap, -1e-12);
+  EXPECT_LT(m.energy, 1e-12);
+}
+
+}  // namespace
+}  // namespace conserve
