@@ -20,7 +20,8 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
 }
 
 template <int D>
-void ActiveSet<D>::begin_step(std::int64_t step) {
+void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorXd& v_n) {
+  if (!gap_tolerance_.empty()) dt_ = dt, v_n_ = v_n;
   std::fill(released_.begin(), released_.end(), 0);
   std::fill(held_.begin(), held_.end(), 0);
   step_ = step;
@@ -104,13 +105,39 @@ void ActiveSet<D>::locate_impacts(double gap_tolerance) {
   }
 }
 
+// The path within the step that the mid-point scheme implies is the
+// quadratic through x_n with slope V_n that ends at x_{n+1} (its end slope
+// is then V_{n+1} of (19)); on it the gap is, to first order in the
+// facet's rotation, g(s) = γ + s Δt ġ_n + s² (g_{n+1} − γ − Δt ġ_n), with ġ_n
+// the slave's normal velocity relative to its facet point at the start.
+// The step should end at the first s where g = δ/2.
 template <int D>
-double ActiveSet<D>::split_at(const Constraint<D>& c, const Match<D>& end) const {
+double ActiveSet<D>::split_at(const Constraint<D>& c, const Match<D>& end, const Positions<D>& x_n) const {
   const double tolerance = gap_tolerance(c.pair, c.slave);
   if (!(c.gap > tolerance)) return 1.0;
-  // Along the straight path of the solve the gap falls from γ to the end
-  // gap; the step should end where it is half the tolerance.
-  return std::clamp((c.gap - 0.5 * tolerance) / (c.gap - end.projection.gap), 0.0, 1.0);
+  const double target = c.gap - 0.5 * tolerance;  // > 0: the drop of the gap to reach δ/2
+  const double drop = c.gap - end.projection.gap;  // > target
+  double fraction = target / drop;                 // the straight path's estimate
+  if (v_n_.size() > 0) {
+    const ContactPair<D>& pair = pairs_[c.pair];
+    const Projection<D> start = project<D>(x_n.col(c.slave), facet_nodes<D>(pair.master, c.facet, x_n));
+    const Vec<D> N = facet_shape<D>(start.xi);
+    Vec<D> relative = v_n_.template segment<D>(c.slave * D);
+    for (int b = 0; b < D; ++b) relative -= N(b) * v_n_.template segment<D>(c.master[b] * D);
+    const double slope = dt_ * relative.dot(start.normal);  // dg/ds at s = 0
+    const double curve = -drop - slope;                     // g(s) = γ + slope s + curve s²
+    // Smallest root in (0, 1] of curve s² + slope s + target = 0, written
+    // to avoid cancellation; g(0) > δ/2 > g(1), so there is one.
+    const double disc = slope * slope - 4.0 * curve * target;
+    if (std::abs(curve) > 1e-12 * drop && disc >= 0.0) {
+      const double q = -0.5 * (slope + std::copysign(std::sqrt(disc), slope));
+      double best = 2.0;
+      for (double s : {q / curve, q != 0.0 ? target / q : 2.0})
+        if (s > 0.0 && s <= 1.0) best = std::min(best, s);
+      if (best <= 1.0) fraction = best;
+    }
+  }
+  return std::clamp(fraction, 0.0, 1.0);
 }
 
 template <int D>
@@ -127,7 +154,7 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
       if (prescribed_[s] || is_active_[s]) continue;
       const auto match = search(pair, i, x, normals[i]);
       if (match && match->projection.gap < -pair.search.penetration_tolerance)
-        fraction = std::min(fraction, split_at(make_constraint(p, s, *match, x_n, x), *match));
+        fraction = std::min(fraction, split_at(make_constraint(p, s, *match, x_n, x), *match, x_n));
     }
   }
   return fraction;
@@ -206,7 +233,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
     }
     for (const auto& [i, end] : found) {
       const Constraint<D> c = make_constraint(p, pair.slave.nodes[i], end, x_n, x_np1);
-      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(c, end));
+      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(c, end, x_n));
       is_active_[c.slave] = 1;  // not again for a later pair (a node on two slave surfaces)
       activated.push_back(c);
     }

@@ -88,10 +88,12 @@ class ActiveSet {
   /// Normal force f_N = g_s·n_{n+½} of each constraint after the last update [N].
   [[nodiscard]] const std::vector<double>& normal_forces() const { return normal_forces_; }
 
-  /// Starts step `step` (the index it will have once taken): forgets which
-  /// slaves were released or held in the previous one and keeps each
-  /// constraint's force at its end (Constraint::start_force).
-  void begin_step(std::int64_t step);
+  /// Starts step `step` (the index it will have once taken) of length dt
+  /// from velocities v_n: forgets which slaves were released or held in
+  /// the previous one and keeps each constraint's force at its end
+  /// (Constraint::start_force); dt and v_n serve the crossing estimate of
+  /// located impacts.
+  void begin_step(std::int64_t step, double dt, const Eigen::VectorXd& v_n);
 
   /// The direct elimination of the active constraints for one solve of the
   /// step u_n → u (u is not modified: call enforce()). It works on this
@@ -155,7 +157,7 @@ class ActiveSet {
   /// start of the step; `end` is the facet it was found behind at the end.
   /// Where the step should end for slave `c` (just made, with its end
   /// match `end`) to arrive at half its tolerance; 1 if it starts within it.
-  [[nodiscard]] double split_at(const Constraint<D>& c, const Match<D>& end) const;
+  [[nodiscard]] double split_at(const Constraint<D>& c, const Match<D>& end, const Positions<D>& x_n) const;
   [[nodiscard]] Constraint<D> make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                               const Positions<D>& x_np1) const;
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
@@ -178,6 +180,8 @@ class ActiveSet {
   /// with; empty when impacts are not located.
   std::vector<std::vector<double>> gap_tolerance_;
   bool allow_splits_ = true;
+  double dt_ = 0.0;         ///< the step under way (located impacts)
+  Eigen::VectorXd v_n_;     ///< velocities at its start (located impacts)
 };
 
 }  // namespace conserve::contact

@@ -47,7 +47,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   apply_prescribed(assembler_.model().prescribed, t_np1, u_np1);
   stats_ = {};
   for (const auto& term : terms_) term->begin(state, dt);
-  if (contacts_) contacts_->begin_step(state.step + 1);
+  if (contacts_) contacts_->begin_step(state.step + 1, dt, state.v);
   solver::NewtonReport total;
   for (bool again = true; again;) {
     // The elimination works on the active set's constraints: the updates
