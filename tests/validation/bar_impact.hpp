@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -78,15 +79,19 @@ struct Impact {
 /// contact, when chatter released every slave, does not end it; nor, for
 /// the last bar, which has no one to pass momentum on to, does a step that
 /// gives some back, as when slaves re-activated after a release are held
-/// with a tensile force for that step).
+/// with a tensile force for that step). A pause longer than a tenth of
+/// 2L/c (L the shorter bar) ends it: bars that part at rest side by side
+/// (a short bar that has hit one twice its length) may touch again later.
 inline Impact first_impact(const BarHistory& h, const Bars& bars, int k) {
   const double threshold = 1e-6 * bars.mass() * bars.v0;
+  const double pause = 0.2 * std::min(bars.length_of(k - 1), bars.length_of(k)) / bars.wave_speed();
   const bool passes_on = k + 1 < bars.count;
   Impact imp;
   int first = -1, last = -1;
   for (std::size_t n = 1; n < h.time.size(); ++n) {
     const double dl = h.momentum[n][k] - h.momentum[n - 1][k];
     if (first >= 0 && passes_on && dl < -threshold) break;  // bar k hits bar k+1
+    if (last >= 0 && h.time[n] - h.time[last] > pause) break;  // parted
     if (dl > threshold) {
       if (first < 0) first = static_cast<int>(n);
       last = static_cast<int>(n);
@@ -103,6 +108,20 @@ inline Impact first_impact(const BarHistory& h, const Bars& bars, int k) {
   imp.momentum_stress /= (hi - lo + 1);
   imp.force_stress /= (hi - lo + 1);
   return imp;
+}
+
+/// How long bar k (k ≥ 1) took to receive `fraction` of the momentum bar
+/// k−1 brought (m v0 if k = 1), from the start of its first impact: for 1D
+/// waves the force is constant over 2L/c, so this is fraction × 2L/c; it
+/// leaves out the mesh's dispersive tail and later touches of bars at rest
+/// side by side, which the first-to-last-step duration of first_impact
+/// takes in. NaN if it never does.
+inline double transfer_time(const BarHistory& h, const Bars& bars, int k, double fraction) {
+  const double target = fraction * bars.mass(k - 1) * bars.v0;
+  const Impact imp = first_impact(h, bars, k);
+  for (std::size_t n = 1; n < h.time.size(); ++n)
+    if (h.momentum[n][k] - h.momentum[0][k] >= target) return h.time[n] - imp.start;
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 /// Steps during which some constraint was active, from the first to the last.

@@ -2,8 +2,10 @@
 /// Scenario text of the validation cases (docs/validation.md). The files in
 /// examples/validation/ are these texts with comments in front; a test
 /// checks that they stay the same.
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -19,6 +21,8 @@ struct Bars {
   double step = 1e-5;      ///< Δt [s]
   double end = 2.5e-3;     ///< [s]
   double length = 1.0;     ///< L [m]
+  /// Per bar, left to right, if the bars differ in length (else all `length`) [m].
+  std::vector<double> lengths;
   double width = 0.1;      ///< cross-section edge (2D: height; thickness 1 m) [m]
   double gap = 1e-4;       ///< initial gap between neighbours [m]
   double v0 = 1.0;         ///< speed of the first bar [m/s]
@@ -29,8 +33,17 @@ struct Bars {
 
   [[nodiscard]] double wave_speed() const;
   [[nodiscard]] double area() const { return dimension == 3 ? width * width : width; }
-  [[nodiscard]] double mass() const { return density * length * area(); }
+  [[nodiscard]] double length_of(int k) const { return lengths.empty() ? length : lengths.at(k); }
+  /// The shortest bar's length (2L/c of an impact between two bars) [m].
+  [[nodiscard]] double shortest() const;
+  [[nodiscard]] double mass(int k = 0) const { return density * length_of(k) * area(); }
 };
+
+inline double Bars::shortest() const {
+  double l = length_of(0);
+  for (int k = 1; k < count; ++k) l = std::min(l, length_of(k));
+  return l;
+}
 
 inline double Bars::wave_speed() const { return std::sqrt(young / density); }
 
@@ -38,14 +51,20 @@ inline double Bars::wave_speed() const { return std::sqrt(young / density); }
 inline std::string bar_name(int k) { return std::string(1, static_cast<char>('A' + k)); }
 
 inline std::string bar_body(const Bars& b, int k) {
-  const double x = (k - 0.5 * (b.count - 1)) * (b.length + b.gap);
+  double x = (k - 0.5 * (b.count - 1)) * (b.length + b.gap);  // the centre of bar k
+  if (!b.lengths.empty()) {
+    double left = -b.gap * 0.5 * (b.count - 1);
+    for (int j = 0; j < b.count; ++j) left -= 0.5 * b.length_of(j);
+    for (int j = 0; j < k; ++j) left += b.length_of(j) + b.gap;
+    x = left + 0.5 * b.length_of(k);
+  }
   const std::string place = b.dimension == 3 ? fmt::format("[{}, 0.0, 0.0]", x) : fmt::format("[{}, 0.0]", x);
   const double v = k == 0 ? b.v0 : 0.0;
   const std::string velocity = b.dimension == 3 ? fmt::format("[{}, 0.0, 0.0]", v) : fmt::format("[{}, 0.0]", v);
   const std::string mesh = b.dimension == 3 ? fmt::format("generator = \"box\"\nlx = {}\nly = {}\nlz = {}\nsize = {}\n",
-                                                          b.length, b.width, b.width, b.size)
+                                                          b.length_of(k), b.width, b.width, b.size)
                                             : fmt::format("generator = \"rectangle\"\nlx = {}\nly = {}\nsize = {}\n",
-                                                          b.length, b.width, b.size);
+                                                          b.length_of(k), b.width, b.size);
   return fmt::format(
       "\n[[body]]\nname = \"{}\"\ntranslate = {}\nvelocity = {}\n[body.material]\nyoung = {}\npoisson = 0.0\n"
       "density = {}\n[body.mesh]\n{}",
