@@ -77,6 +77,21 @@ std::optional<Match<D>> ActiveSet<D>::search(const ContactPair<D>& pair, std::si
 }
 
 template <int D>
+template <class Visit>
+void ActiveSet<D>::for_each_match(const Positions<D>& x, Visit&& visit) {
+  for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
+    ContactPair<D>& pair = pairs_[p];
+    pair.tree.refit(x);
+    const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
+    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
+      const int s = pair.slave.nodes[i];
+      if (prescribed_[s]) continue;
+      if (const auto match = search(pair, i, x, normals[i])) visit(p, i, s, *match);
+    }
+  }
+}
+
+template <int D>
 SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
                                StepContactStats& stats) {
   ++stats.passes;
@@ -145,18 +160,10 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
   if (gap_tolerance_.empty() || !allow_splits_) return 1.0;
   const Positions<D> x_n = positions(u_n), x = positions(u);
   double fraction = 1.0;
-  for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
-    ContactPair<D>& pair = pairs_[p];
-    pair.tree.refit(x);
-    const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
-    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
-      const int s = pair.slave.nodes[i];
-      if (prescribed_[s] || is_active_[s]) continue;
-      const auto match = search(pair, i, x, normals[i]);
-      if (match && match->projection.gap < -pair.search.penetration_tolerance)
-        fraction = std::min(fraction, split_at(make_constraint(p, s, *match, x_n, x), *match, x_n));
-    }
-  }
+  for_each_match(x, [&](int p, std::size_t, int s, const Match<D>& match) {
+    if (!is_active_[s] && match.projection.gap < -pairs_[p].search.penetration_tolerance)
+      fraction = std::min(fraction, split_at(make_constraint(p, s, match, x_n, x), match, x_n));
+  });
   return fraction;
 }
 
@@ -203,40 +210,30 @@ template <int D>
 SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1,
                                              StepContactStats& stats) {
   constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   bool changed = false;
   const bool split = allow_splits_ && !gap_tolerance_.empty();
+  std::vector<std::vector<double>> active_gap(pairs_.size());  // per pair, per slave (local)
+  for (std::size_t p = 0; p < pairs_.size(); ++p) active_gap[p].assign(pairs_[p].slave.nodes.size(), nan);
   std::vector<Constraint<D>> activated;
   double deepest = 0.0, min_gap = inf, max_gap = -inf;
-  for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
-    ContactPair<D>& pair = pairs_[p];
-    pair.tree.refit(x_np1);
-    const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x_np1);
-    std::vector<std::pair<std::size_t, Match<D>>> found;
-    std::vector<double> active_gap(pair.slave.nodes.size(), std::numeric_limits<double>::quiet_NaN());
-    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
-      const int s = pair.slave.nodes[i];
-      if (prescribed_[s]) continue;
-      const auto match = search(pair, i, x_np1, normals[i]);
-      if (!match) continue;
-      deepest = std::max(deepest, -match->projection.gap);
-      if (is_active_[s])
-        active_gap[i] = match->projection.gap;
-      else if (match->projection.gap < -pair.search.penetration_tolerance)
-        found.emplace_back(i, *match);
-    }
-    for (const Constraint<D>& c : active_) {
-      if (c.pair != p) continue;
-      double gap = active_gap[static_cast<std::size_t>(pair.slave.local_node(c.slave))];
-      if (std::isnan(gap)) gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pair.master, c.facet, x_np1)).gap;
-      min_gap = std::min(min_gap, gap);
-      max_gap = std::max(max_gap, gap);
-    }
-    for (const auto& [i, end] : found) {
-      const Constraint<D> c = make_constraint(p, pair.slave.nodes[i], end, x_n, x_np1);
-      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(c, end, x_n));
-      is_active_[c.slave] = 1;  // not again for a later pair (a node on two slave surfaces)
+  for_each_match(x_np1, [&](int p, std::size_t i, int s, const Match<D>& match) {
+    deepest = std::max(deepest, -match.projection.gap);
+    if (is_active_[s]) {
+      active_gap[p][i] = match.projection.gap;
+    } else if (match.projection.gap < -pairs_[p].search.penetration_tolerance) {
+      const Constraint<D> c = make_constraint(p, s, match, x_n, x_np1);
+      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(c, match, x_n));
+      is_active_[s] = 1;  // not again for a later pair (a node on two slave surfaces)
       activated.push_back(c);
     }
+  });
+  for (const Constraint<D>& c : active_) {
+    const ContactPair<D>& pair = pairs_[c.pair];
+    double gap = active_gap[c.pair][static_cast<std::size_t>(pair.slave.local_node(c.slave))];
+    if (std::isnan(gap)) gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pair.master, c.facet, x_np1)).gap;
+    min_gap = std::min(min_gap, gap);
+    max_gap = std::max(max_gap, gap);
   }
   stats.max_penetration = deepest;
   const bool none = min_gap > max_gap;
@@ -289,16 +286,9 @@ template <int D>
 Penetration ActiveSet<D>::max_penetration(const Eigen::VectorXd& u) {
   const Positions<D> x = positions(u);
   Penetration deepest;
-  for (ContactPair<D>& pair : pairs_) {
-    pair.tree.refit(x);
-    const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
-    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
-      const int s = pair.slave.nodes[i];
-      if (prescribed_[s]) continue;
-      const auto match = search(pair, i, x, normals[i]);
-      if (match && -match->projection.gap > deepest.depth) deepest = {-match->projection.gap, s};
-    }
-  }
+  for_each_match(x, [&](int, std::size_t, int s, const Match<D>& match) {
+    if (-match.projection.gap > deepest.depth) deepest = {-match.projection.gap, s};
+  });
   return deepest;
 }
 

@@ -165,6 +165,11 @@ class ActiveSet {
   /// at positions x (the tree refitted to x), within the surface.
   [[nodiscard]] std::optional<Match<D>> search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
                                                const Vec<D>& slave_normal) const;
+  /// Calls visit(pair, i, slave node, match) for every slave that is not
+  /// prescribed and has a master facet at positions x (search()), pair by
+  /// pair (each pair's tree refitted to x first).
+  template <class Visit>
+  void for_each_match(const Positions<D>& x, Visit&& visit);
 
   const model::Model<D>& model_;
   std::vector<ContactPair<D>> pairs_;
