@@ -4,19 +4,47 @@
 #include <cmath>
 #include <limits>
 
+#include "contact/zero_work.hpp"
+
 namespace conserve::contact {
 
 template <int D>
 ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>> pairs)
     : model_(model),
       pairs_(std::move(pairs)),
-      is_active_(model.num_nodes(), 0),
       released_(model.num_nodes(), 0),
       held_(model.num_nodes(), 0),
       prescribed_(model.num_nodes(), 0) {
   for (int d : model.prescribed.dofs) prescribed_[d / D] = 1;
   const Positions<D> x = model.X;
   for (auto& pair : pairs_) pair.tree.build(pair.master.facets, x);
+  slot_.assign(model.num_nodes(), -1);
+  index_active();
+}
+
+template <int D>
+void ActiveSet<D>::index_active() {
+  count_.assign(model_.num_nodes(), 0);
+  first_pair_.assign(model_.num_nodes(), -1);
+  first_normal_.assign(model_.num_nodes(), Vec<D>::Zero());
+  active_in_.resize(pairs_.size());
+  for (std::size_t p = 0; p < pairs_.size(); ++p) active_in_[p].assign(pairs_[p].slave.nodes.size(), 0);
+  for (const Constraint<D>& c : active_) mark(c);
+}
+
+template <int D>
+void ActiveSet<D>::mark(const Constraint<D>& c) {
+  if (count_[c.slave]++ == 0) first_pair_[c.slave] = c.pair, first_normal_[c.slave] = c.normal;
+  const int i = pairs_[c.pair].slave.local_node(c.slave);
+  if (i >= 0) active_in_[c.pair][static_cast<std::size_t>(i)] = 1;
+}
+
+template <int D>
+bool ActiveSet<D>::can_hold(int p, int s, const Vec<D>& normal) const {
+  if (count_[s] == 0) return true;
+  if (count_[s] > 1 || first_pair_[s] == p) return false;
+  return pairs_[p].kind == Kind::frictionless && pairs_[first_pair_[s]].kind == Kind::frictionless &&
+         std::abs(normal.dot(first_normal_[s])) < kParallelCosine;
 }
 
 template <int D>
@@ -42,12 +70,9 @@ Elimination<D> ActiveSet<D>::elimination(const Eigen::VectorXd& u_n, const Eigen
 template <int D>
 void ActiveSet<D>::set_constraints(std::vector<Constraint<D>> constraints) {
   active_ = std::move(constraints);
-  std::fill(is_active_.begin(), is_active_.end(), 0);
+  index_active();
   normal_forces_.clear();
-  for (const Constraint<D>& c : active_) {
-    is_active_[c.slave] = 1;
-    normal_forces_.push_back(c.normal_force);
-  }
+  for (const Constraint<D>& c : active_) normal_forces_.push_back(c.normal_force);
 }
 
 template <int D>
@@ -160,8 +185,9 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
   if (gap_tolerance_.empty() || !allow_splits_) return 1.0;
   const Positions<D> x_n = positions(u_n), x = positions(u);
   double fraction = 1.0;
-  for_each_match(x, [&](int p, std::size_t, int s, const Match<D>& match) {
-    if (!is_active_[s] && match.projection.gap < -pairs_[p].search.penetration_tolerance)
+  for_each_match(x, [&](int p, std::size_t i, int s, const Match<D>& match) {
+    if (!active_in_[p][i] && match.projection.gap < -pairs_[p].search.penetration_tolerance &&
+        can_hold(p, s, match.projection.normal))
       fraction = std::min(fraction, split_at(make_constraint(p, s, match, x_n, x), match, x_n));
   });
   return fraction;
@@ -173,19 +199,52 @@ double ActiveSet<D>::gap_tolerance(int pair, int slave) const {
   return gap_tolerance_[pair][static_cast<std::size_t>(pairs_[pair].slave.local_node(slave))];
 }
 
+template <int D>
+std::vector<double> ActiveSet<D>::split_forces(const Eigen::VectorXd& g) {
+  const std::size_t n = active_.size();
+  std::vector<double> f(n);
+  std::vector<int> partner(n, -1);
+  for (std::size_t j = 0; j < n; ++j) {
+    int& first = slot_[active_[j].slave];
+    if (first < 0) {
+      first = static_cast<int>(j);
+    } else {
+      partner[j] = first;
+      partner[static_cast<std::size_t>(first)] = static_cast<int>(j);
+    }
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    const Constraint<D>& c = active_[j];
+    slot_[c.slave] = -1;
+    const Vec<D> g_s = g.template segment<D>(c.slave * D);
+    if (partner[j] < 0) {
+      f[j] = g_s.dot(c.normal);
+      continue;
+    }
+    const Vec<D>& m = active_[static_cast<std::size_t>(partner[j])].normal;
+    // g_s = f n + f′ m in the least-squares sense: Gram system, f by Cramer.
+    const double nm = c.normal.dot(m), det = 1.0 - nm * nm;
+    f[j] = (g_s.dot(c.normal) - nm * g_s.dot(m)) / det;
+  }
+  return f;
+}
+
 // (46), (65): keep the constraint while f_N = g_s·n_{n+½} ≥ 0 (or while it
 // is held after a release earlier in the step).
 template <int D>
 bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats) {
-  std::vector<Constraint<D>> kept;
-  normal_forces_.clear();
   for (Constraint<D>& c : active_) {
     FacetNodes<D> xm;
     for (int a = 0; a < D; ++a) xm.col(a) = x_mid.col(c.master[a]);
     c.normal = facet_normal<D>(xm);
-    const double f_n = g.template segment<D>(c.slave * D).dot(c.normal);
+  }
+  const std::vector<double> forces = split_forces(g);
+  std::vector<Constraint<D>> kept;
+  normal_forces_.clear();
+  for (std::size_t j = 0; j < active_.size(); ++j) {
+    Constraint<D>& c = active_[j];
+    const double f_n = forces[j];
     if (f_n < 0.0 && !held_[c.slave]) {
-      is_active_[c.slave] = 0;
       released_[c.slave] = 1;
       ++stats.releases;
       if (step_ - c.activated_step < kChatterWindow) ++stats.chatter;
@@ -198,6 +257,7 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
   }
   const bool changed = kept.size() != active_.size();
   active_ = std::move(kept);
+  if (changed) index_active();
   return changed;
 }
 
@@ -219,12 +279,13 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   double deepest = 0.0, min_gap = inf, max_gap = -inf;
   for_each_match(x_np1, [&](int p, std::size_t i, int s, const Match<D>& match) {
     deepest = std::max(deepest, -match.projection.gap);
-    if (is_active_[s]) {
+    if (active_in_[p][i]) {
       active_gap[p][i] = match.projection.gap;
-    } else if (match.projection.gap < -pairs_[p].search.penetration_tolerance) {
+    } else if (match.projection.gap < -pairs_[p].search.penetration_tolerance &&
+               can_hold(p, s, match.projection.normal)) {
       const Constraint<D> c = make_constraint(p, s, match, x_n, x_np1);
       if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(c, match, x_n));
-      is_active_[s] = 1;  // not again for a later pair (a node on two slave surfaces)
+      mark(c);  // a node on two slave surfaces: a second one only if can_hold()
       activated.push_back(c);
     }
   });
@@ -240,7 +301,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   stats.min_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : min_gap;
   stats.max_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : max_gap;
   if (stats.split_fraction < 1.0) {
-    for (const Constraint<D>& c : activated) is_active_[c.slave] = 0;
+    index_active();
     return SetChange::split;
   }
   for (const Constraint<D>& c : activated) {
@@ -258,9 +319,15 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
 // γ and, for stick, its frozen ξ̄ are those of the slave's position at the
 // START of the step on that facet, so that the constraint holds what the
 // slave had: for stick F(x_m,n) = x_s,n exactly (no work, whatever the
-// facet); for frictionless γ is clamped at 0 (a slave that was over a
-// neighbouring facet across a convex edge may start behind this one's
-// plane), the difference being absorbed by the zero-work force direction.
+// facet); for frictionless its start gap too, even when it is negative (a
+// slave that was over a neighbouring facet across a convex edge, or that
+// sank beyond the surface's border unseen, starts behind this facet's
+// plane). Pushing it out to γ = 0 within the step at zero work needs other
+// non-rigid motion of the constraint's nodes as large as the push-out: a
+// push-out alone is met by a force direction ā with ā_s·n = 0 exactly
+// (contact/zero_work.hpp), a tangential force Newton cannot balance
+// (docs/validation.md, §6.2). The slave stays as far behind as it started
+// while it is held; the history's min_active_gap shows it.
 template <int D>
 Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                             const Positions<D>& x_np1) const {
@@ -274,12 +341,28 @@ Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, c
   c.kind = pair.kind;
   c.facet = end.facet;
   for (int a = 0; a < D; ++a) c.master[a] = pair.master.facets(a, c.facet);
-  c.gap = c.kind == Kind::stick ? start.gap : std::max(start.gap, 0.0);
   c.xi = c.kind == Kind::stick ? start.xi : mid.xi;
   c.normal = mid.normal;
   c.tangents = mid.tangents;
+  c.gap = start.gap;
+  if (c.kind == Kind::frictionless && start.gap < 0.0 && -start.gap <= push_out(c, x_n, x_np1)) c.gap = 0.0;
   c.activated_step = step_;
   return c;
+}
+
+template <int D>
+double ActiveSet<D>::push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) const {
+  zero_work::Nodes<D, double> y, d;
+  auto put = [&](int column, int node) {
+    y.col(column) = 0.5 * (x_a.col(node) + x_b.col(node));
+    d.col(column) = x_b.col(node) - x_a.col(node);
+  };
+  put(0, c.slave);
+  for (int b = 0; b < D; ++b) put(b + 1, c.master[b]);
+  // A push-out alone is met by ā_s·n = 0 (see make_constraint): only the
+  // other non-rigid motion, slip and the facet's strain, can take it.
+  d.col(0) -= c.normal * c.normal.dot(d.col(0) - d.template rightCols<D>() * facet_shape<D>(c.xi));
+  return kPushOut * zero_work::non_rigid_part<D, D + 1, double>(y, d).norm();
 }
 
 template <int D>

@@ -51,6 +51,16 @@ struct StepContactStats {
   double max_active_gap = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// Two constraints on one slave node whose facet normals are closer to
+/// parallel than this (|n₁·n₂|) are not held together: the second is not
+/// activated (the two gaps would fix the slave's motion badly).
+inline constexpr double kParallelCosine = 0.9;
+
+/// The push-out a frictionless slave found behind its facet may be given
+/// in its first step, relative to the other non-rigid motion of its
+/// constraint's nodes (ActiveSet::push_out).
+inline constexpr double kPushOut = 1.0;
+
 /// A release counts as chatter if the slave was activated less than this
 /// many steps before (history.csv `chatter`).
 inline constexpr int kChatterWindow = 10;
@@ -161,6 +171,12 @@ class ActiveSet {
   [[nodiscard]] Constraint<D> make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                               const Positions<D>& x_np1) const;
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
+  /// How far frictionless constraint c's slave may be moved out towards
+  /// its facet in a step from positions x_a to x_b (read at the
+  /// constraint's nodes) at zero work with a force close to the normal:
+  /// kPushOut |w|, w the non-rigid part of the nodes' motion without the
+  /// slave's normal motion relative to the facet (make_constraint).
+  [[nodiscard]] double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) const;
   /// The master facet slave `pair.slave.nodes[i]` is behind or in front of
   /// at positions x (the tree refitted to x), within the surface.
   [[nodiscard]] std::optional<Match<D>> search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
@@ -171,11 +187,30 @@ class ActiveSet {
   template <class Visit>
   void for_each_match(const Positions<D>& x, Visit&& visit);
 
+  /// Whether slave node s may take a constraint of pair p whose facet has
+  /// normal `normal`: when it holds none, or holds one frictionless
+  /// constraint of another pair whose normal is not near-parallel
+  /// (|n·n′| < kParallelCosine) and p is frictionless too; then it holds
+  /// both (a node on two slave surfaces, contact/elimination.hpp).
+  [[nodiscard]] bool can_hold(int p, int s, const Vec<D>& normal) const;
+  /// Records constraint c in the per-node and per-pair flags.
+  void mark(const Constraint<D>& c);
+  /// The flags anew from active_.
+  void index_active();
+  /// f_N of each active constraint from the full residual g at the
+  /// mid-point normals: g_s·n, or for a slave holding two constraints the
+  /// split of g_s along both normals (their Gram system).
+  [[nodiscard]] std::vector<double> split_forces(const Eigen::VectorXd& g);
+
   const model::Model<D>& model_;
   std::vector<ContactPair<D>> pairs_;
   std::vector<Constraint<D>> active_;
   std::vector<double> normal_forces_;
-  std::vector<char> is_active_;   ///< per node: slave of an active constraint
+  std::vector<char> count_;                   ///< per node: active constraints it is the slave of (0–2)
+  std::vector<int> first_pair_;               ///< per node: the pair of the first of them
+  std::vector<Vec<D>> first_normal_;          ///< per node: that constraint's normal
+  std::vector<std::vector<char>> active_in_;  ///< per pair, per slave (local): active in that pair
+  std::vector<int> slot_;                     ///< per node: scratch of split_forces(), −1
   std::vector<char> released_;    ///< per node: released during this step
   std::vector<char> held_;        ///< per node: re-activated after a release in this step; not released again
   std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)

@@ -44,7 +44,9 @@ struct Constraint {
   Vec<D> normal = Vec<D>::Zero();              ///< n_{n+½}, outward normal of `facet` at the mid-point
   Tangents<D> tangents = Tangents<D>::Zero();  ///< τ_{n+½}
   /// γ: the gap held, the slave's gap at the start of the step it was
-  /// activated in (≥ 0) [m]. Stick: the height of the slave above ξ̄.
+  /// activated in [m], or 0 if it started behind and could be pushed out
+  /// at zero work (ActiveSet::make_constraint); negative for a slave held
+  /// behind. Stick: the height of the slave above ξ̄.
   double gap = 0.0;
   /// The step the slave was activated in (its first step in contact).
   std::int64_t activated_step = 0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 
 #include <unsupported/Eigen/AutoDiff>
 
@@ -22,35 +23,27 @@ template <int D>
 class RowBuilder {
  public:
   using Coefficients = typename Elimination<D>::Coefficients;
-  RowBuilder(int num_nodes, const std::vector<Constraint<D>>& constraints, std::vector<const Coefficients*> local)
-      : constraints_(constraints),
-        local_(std::move(local)),
-        of_node_(num_nodes, -1),
-        state_(constraints.size(), 0),
-        rows_(constraints.size()) {
-    for (std::size_t c = 0; c < constraints.size(); ++c) {
-      int& owner = of_node_[constraints[c].slave];
-      if (owner >= 0)
-        throw SolverError(fmt::format("node {} is the slave of two active contact constraints", constraints[c].slave));
-      owner = static_cast<int>(c);
-    }
+  /// `slaves`: per group, its slave node (distinct); `local`: per group,
+  /// its coefficients.
+  RowBuilder(int num_nodes, const std::vector<int>& slaves, std::vector<const Coefficients*> local)
+      : slaves_(slaves), local_(std::move(local)), of_node_(num_nodes, -1), state_(slaves.size(), 0), rows_(slaves.size()) {
+    for (std::size_t c = 0; c < slaves.size(); ++c) of_node_[slaves[c]] = static_cast<int>(c);
   }
 
-  /// The D rows of constraint c's slave.
+  /// The D rows of group c's slave.
   const BlockRow<D>& rows(int c) {
     if (state_[c] == 2) return rows_[c];
     if (state_[c] == 1)
       throw SolverError(fmt::format(
           "contact constraints form a cycle through slave node {} (each slave's master is another's slave); "
           "choose the contact pairs so that no body is both slave and master of the same nodes",
-          constraints_[c].slave));
+          slaves_[c]));
     state_[c] = 1;
-    const Constraint<D>& k = constraints_[c];
     const Coefficients& l = *local_[c];
     std::map<int, Mat<D>> out;
     for (std::size_t a = 0; a < l.nodes.size(); ++a) add_node(out, l.nodes[a], l.master.middleCols(a * D, D));
-    if (k.kind == Kind::frictionless)  // (49): slip unknowns in the slave's first D−1 slots
-      block(out, k.slave).template leftCols<D - 1>() += l.slip;
+    // (49): slip unknowns in the slave's first slots (zero for stick)
+    block(out, slaves_[c]).template leftCols<D - 1>() += l.slip;
     BlockRow<D>& row = rows_[c];
     for (const auto& [node, b] : out) {
       row.nodes.push_back(node);
@@ -61,8 +54,8 @@ class RowBuilder {
     return row;
   }
 
-  /// Constraints in the order their rows were completed: every constraint
-  /// after those of its chained master nodes.
+  /// Groups in the order their rows were completed: every group after
+  /// those of its chained master nodes.
   [[nodiscard]] const std::vector<int>& order() const { return order_; }
 
  private:
@@ -80,7 +73,7 @@ class RowBuilder {
     for (std::size_t b = 0; b < sub.nodes.size(); ++b) block(out, sub.nodes[b]) += C * sub.blocks[b];
   }
 
-  const std::vector<Constraint<D>>& constraints_;
+  const std::vector<int>& slaves_;
   std::vector<const Coefficients*> local_;
   std::vector<int> of_node_;
   std::vector<char> state_;  ///< 0 new, 1 being expanded, 2 done
@@ -174,19 +167,112 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
   return l;
 }
 
+// A slave node holds one constraint, or two frictionless ones of
+// different pairs whose facets are not parallel (the active set's rule,
+// ActiveSet::can_hold); anything else is refused.
+template <int D>
+void Elimination<D>::make_groups() {
+  groups_.clear();
+  slave_of_.assign(num_nodes_, -1);
+  for (std::size_t c = 0; c < constraints_->size(); ++c) {
+    const Constraint<D>& k = (*constraints_)[c];
+    int& g = slave_of_[k.slave];
+    if (g < 0) {
+      g = static_cast<int>(groups_.size());
+      groups_.push_back(Group{k.slave, 1, {static_cast<int>(c), -1}});
+      continue;
+    }
+    Group& group = groups_[g];
+    const Constraint<D>& first = (*constraints_)[group.constraint[0]];
+    if (group.count == 2 || k.kind != Kind::frictionless || first.kind != Kind::frictionless || k.pair == first.pair)
+      throw SolverError(fmt::format(
+          "node {} is the slave of {} active contact constraints (at most two, frictionless, of different pairs)",
+          k.slave, group.count + 1));
+    group.constraint[1] = static_cast<int>(c);
+    group.count = 2;
+  }
+}
+
+template <int D>
+typename Elimination<D>::PairKernel Elimination<D>::pair_input(const Group& g, const Eigen::VectorXd& u) const {
+  PairKernel in;
+  auto put = [&](int column, int node) {
+    in.x.col(column) = X_.col(node) + u.template segment<D>(node * D);
+    in.dx.col(column) = u.template segment<D>(node * D) - u_n_.template segment<D>(node * D);
+  };
+  put(0, g.slave);
+  for (int k = 0; k < 2; ++k)
+    for (int b = 0; b < D; ++b) put(1 + k * D + b, (*constraints_)[g.constraint[k]].master[b]);
+  return in;
+}
+
+// The trial map of a slave holding two gaps: to first order, gap k moves
+// by n_kᵀ(Δx_s − N_k Δx_mk) (exact for a flat facet, whatever the gap,
+// since x_s − x(ξ_k) ∥ n_k ⊥ δn_k), so Δx_s = C [n_1ᵀ N_1 Δx_m1; n_2ᵀ N_2
+// Δx_m2] + a Δξ with C = [n_1 n_2] G⁻¹ holds both, a = n_1 × n_2 / |…| the
+// free slip (3D).
+template <int D>
+typename Elimination<D>::Local Elimination<D>::local_pair(const Group& g, const Eigen::VectorXd* u) const {
+  std::array<Vec<D>, 2> normal;
+  std::array<Vec<D>, 2> shape;
+  std::optional<PairKernel> in;
+  if (u) in = pair_input(g, *u);
+  for (int k = 0; k < 2; ++k) {
+    const Constraint<D>& c = (*constraints_)[g.constraint[k]];
+    if (in) {
+      const Projection<D> p = project<D>(in->x.col(0), in->x.template middleCols<D>(1 + k * D));
+      normal[k] = p.normal;
+      shape[k] = facet_shape<D>(p.xi);
+    } else {
+      normal[k] = c.normal;
+      shape[k] = facet_shape<D>(c.xi);
+    }
+  }
+  Eigen::Matrix<double, D, 2> n;
+  n << normal[0], normal[1];
+  const Eigen::Matrix<double, D, 2> C = n * (n.transpose() * n).inverse();
+  Local l;
+  for (int k = 0; k < 2; ++k) {
+    const Constraint<D>& c = (*constraints_)[g.constraint[k]];
+    l.trial.nodes.insert(l.trial.nodes.end(), c.master.begin(), c.master.end());
+  }
+  l.trial.master.resize(D, 2 * D * D);
+  for (int k = 0; k < 2; ++k)
+    for (int b = 0; b < D; ++b)
+      l.trial.master.middleCols((k * D + b) * D, D) = shape[k](b) * C.col(k) * normal[k].transpose();
+  if constexpr (D == 3) l.trial.slip.col(0) = normal[0].cross(normal[1]).normalized();
+  l.test.nodes = l.trial.nodes;
+  if (!in) {
+    l.test.master = l.trial.master;
+    l.test.slip = l.trial.slip;
+    return l;
+  }
+  const auto t = zero_work::pair_frictionless_test<D, double>(in->x, in->dx);
+  l.test.master = t.master;
+  l.test.slip.col(0) = t.slip;
+  return l;
+}
+
 template <int D>
 void Elimination<D>::build(const Eigen::VectorXd* u) {
+  make_groups();
   std::vector<Local> locals;
-  locals.reserve(constraints_->size());
-  for (const Constraint<D>& k : *constraints_) {
-    if (u && pairs_) {
+  locals.reserve(groups_.size());
+  const bool geometry = u && pairs_;
+  for (const Group& g : groups_) {
+    if (g.count == 2) {
+      locals.push_back(local_pair(g, geometry ? u : nullptr));
+      continue;
+    }
+    const Constraint<D>& k = (*constraints_)[g.constraint[0]];
+    if (geometry) {
       locals.push_back(local(k, *u));
       continue;
     }
     Local l;  // no geometry: the slave on its facet at ξ, the paper's maps
     l.trial.nodes.assign(k.master.begin(), k.master.end());
     l.trial.master = shape_block<D>(k.xi);
-    l.trial.slip = k.tangents;
+    if (k.kind == Kind::frictionless) l.trial.slip = k.tangents;
     l.test = l.trial;
     locals.push_back(std::move(l));
   }
@@ -195,17 +281,15 @@ void Elimination<D>::build(const Eigen::VectorXd* u) {
   for (const Local& l : locals) trial.push_back(&l.trial), test.push_back(&l.test);
   test_.clear();
   for (const Local& l : locals) test_.push_back(l.test);
-  RowBuilder<D> trial_builder(num_nodes_, *constraints_, trial), test_builder(num_nodes_, *constraints_, test);
-  const std::size_t count = constraints_->size();
-  slave_of_.assign(num_nodes_, -1);
+  const std::size_t count = groups_.size();
   slaves_.resize(count);
+  for (std::size_t g = 0; g < count; ++g) slaves_[g] = groups_[g].slave;
+  RowBuilder<D> trial_builder(num_nodes_, slaves_, trial), test_builder(num_nodes_, slaves_, test);
   trial_rows_.resize(count);
   test_rows_.resize(count);
-  for (std::size_t c = 0; c < count; ++c) {
-    slaves_[c] = (*constraints_)[c].slave;
-    slave_of_[slaves_[c]] = static_cast<int>(c);
-    trial_rows_[c] = trial_builder.rows(static_cast<int>(c));
-    test_rows_[c] = test_builder.rows(static_cast<int>(c));
+  for (std::size_t g = 0; g < count; ++g) {
+    trial_rows_[g] = trial_builder.rows(static_cast<int>(g));
+    test_rows_[g] = test_builder.rows(static_cast<int>(g));
   }
   order_ = test_builder.order();
 }
@@ -263,7 +347,11 @@ void Elimination<D>::add_variation_block(int c, int out, bool slip, int in, cons
 // W (outputs), node block by node block.
 template <int D>
 void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const {
-  const Constraint<D>& k = (*constraints_)[c];
+  if (groups_[c].count == 2) {
+    add_pair_variation(c, g_s, K_r);
+    return;
+  }
+  const Constraint<D>& k = (*constraints_)[groups_[c].constraint[0]];
   const Kernel in = kernel_input(k, u_);
   if (k.kind == Kind::stick) {
     constexpr int N = D * D;  // inputs and outputs: the facet's nodes
@@ -290,16 +378,39 @@ void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) 
       add_variation_block(c, node(a), a == 0, node(b), G.template block<D, D>(a * D, b * D), K_r);
 }
 
+// The same for a slave holding two constraints: inputs and outputs the
+// slave, facet 1's nodes and facet 2's.
+template <int D>
+void Elimination<D>::add_pair_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const {
+  const Group& g = groups_[c];
+  const PairKernel in = pair_input(g, u_);
+  constexpr int N = D * (2 * D + 1);
+  const auto t = zero_work::pair_frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx));
+  const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
+  Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();  // outputs: the slip (rows 1…D−1 zero), the facets
+  if constexpr (D == 3) G.row(0) = t.slip.dot(gs).derivatives().transpose();
+  for (int o = 0; o < 2 * D * D; ++o) G.row(D + o) = t.master.col(o).dot(gs).derivatives().transpose();
+  auto node = [&](int a) {
+    return a == 0 ? g.slave : (*constraints_)[g.constraint[(a - 1) / D]].master[(a - 1) % D];
+  };
+  for (int a = 0; a <= 2 * D; ++a)
+    for (int b = 0; b <= 2 * D; ++b)
+      add_variation_block(c, node(a), a == 0, node(b), G.template block<D, D>(a * D, b * D), K_r);
+}
+
 template <int D>
 bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const {
   const bool new_pattern = reduction_->reduce(K, slave_rows(), K_r);  // Wᵀ K T (43), (58)
   // (44), (59): β = tr(K_ss)/D on the dummy slots.
-  for (std::size_t c = 0; c < constraints_->size(); ++c) {
+  // A frictionless slave has D − (its constraints) slips; stick none.
+  for (std::size_t c = 0; c < groups_.size(); ++c) {
     const int s = slaves_[c];
     double trace = 0.0;
     for (int i = 0; i < D; ++i) trace += K.coeff(s * D + i, s * D + i);
     Mat<D> beta = Mat<D>::Zero();
-    for (int j = ((*constraints_)[c].kind == Kind::frictionless ? D - 1 : 0); j < D; ++j) beta(j, j) = trace / D;
+    const Group& group = groups_[c];
+    const bool stick = (*constraints_)[group.constraint[0]].kind == Kind::stick;
+    for (int j = stick ? 0 : D - group.count; j < D; ++j) beta(j, j) = trace / D;
     reduction_->add(static_cast<int>(c), s, s, beta, K_r);
   }
   if (!pairs_ || u_.size() != g.size()) return new_pattern;
@@ -308,14 +419,13 @@ bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd
   // of another constraint), accumulated from the outer end of the chains.
   Eigen::VectorXd passed = g;
   for (auto c = order_.rbegin(); c != order_.rend(); ++c) {
-    const Constraint<D>& k = (*constraints_)[*c];
     const Coefficients& l = test_[*c];
-    const Vec<D> gs = passed.template segment<D>(k.slave * D);
+    const Vec<D> gs = passed.template segment<D>(slaves_[*c] * D);
     for (std::size_t a = 0; a < l.nodes.size(); ++a)
       if (slave_of_[l.nodes[a]] >= 0)
         passed.template segment<D>(l.nodes[a] * D) += l.master.middleCols(a * D, D).transpose() * gs;
   }
-  for (std::size_t c = 0; c < constraints_->size(); ++c)
+  for (std::size_t c = 0; c < groups_.size(); ++c)
     add_variation(static_cast<int>(c), passed.template segment<D>(slaves_[c] * D), K_r);
   return new_pattern;
 }
@@ -346,33 +456,29 @@ void Elimination<D>::expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const
 // behind the neighbour by the surface's kink (docs/theory.md, "Limits";
 // history.csv's max_penetration shows it).
 template <int D>
-void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const {
+Match<D> Elimination<D>::settle(const Constraint<D>& k, const Vec<D>& xs, int facet, const Positions<D>& x,
+                                int switches) const {
   const ContactSurface& master = (*pairs_)[k.pair].master;
   const double tol = (*pairs_)[k.pair].search.inside_tolerance;
   // A neighbour must be lower by more than round-off: on a flat surface
   // (or at a vertex the slave sits on) all facets give the same gap, and a
   // choice made by round-off would hop between iterations.
   const double lower = (*pairs_)[k.pair].search.penetration_tolerance;
-  Vec<D> xs = x.col(k.slave);
-  int facet = k.facet;
-  for (int pass = 0; pass < 4; ++pass) {
-    Match<D> best{facet, project<D>(xs, facet_nodes<D>(master, facet, x))};
-    if (switches < kMaxSwitches) {
-      best = follow<D>(xs, best, master, x, tol);
-      for (int side = 0; side < D; ++side) {
-        const int next = master.facet_neighbours(side, best.facet);
-        if (next < 0) continue;
-        const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
-        if (p.inside(tol) && p.gap < best.projection.gap - lower) best = Match<D>{next, p};
-      }
-    }
-    xs -= (best.projection.gap - k.gap) * best.projection.normal;
-    if (best.facet == facet) break;
-    facet = best.facet;
-    ++switches;
+  Match<D> best{facet, project<D>(xs, facet_nodes<D>(master, facet, x))};
+  if (switches >= kMaxSwitches) return best;
+  best = follow<D>(xs, best, master, x, tol);
+  for (int side = 0; side < D; ++side) {
+    const int next = master.facet_neighbours(side, best.facet);
+    if (next < 0) continue;
+    const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
+    if (p.inside(tol) && p.gap < best.projection.gap - lower) best = Match<D>{next, p};
   }
-  x.col(k.slave) = xs;
-  x_mid.col(k.slave) = 0.5 * (xs + (X_.col(k.slave) + u_n_.template segment<D>(k.slave * D)));
+  return best;
+}
+
+template <int D>
+void Elimination<D>::set_mid_point(Constraint<D>& k, int facet, const Positions<D>& x_mid) const {
+  const ContactSurface& master = (*pairs_)[k.pair].master;
   const Projection<D> mid = project<D>(x_mid.col(k.slave), facet_nodes<D>(master, facet, x_mid));  // (60)–(64), 2
   k.facet = facet;
   for (int a = 0; a < D; ++a) k.master[a] = master.facets(a, facet);
@@ -382,11 +488,62 @@ void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Posit
 }
 
 template <int D>
+void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const {
+  Vec<D> xs = x.col(k.slave);
+  int facet = k.facet;
+  for (int pass = 0; pass < 4; ++pass) {
+    const Match<D> best = settle(k, xs, facet, x, switches);
+    xs -= (best.projection.gap - k.gap) * best.projection.normal;
+    if (best.facet == facet) break;
+    facet = best.facet;
+    ++switches;
+  }
+  x.col(k.slave) = xs;
+  x_mid.col(k.slave) = 0.5 * (xs + (X_.col(k.slave) + u_n_.template segment<D>(k.slave * D)));
+  set_mid_point(k, facet, x_mid);
+}
+
+// Both gaps at once: the slave moves by −C e, e the two gaps' errors and
+// C = [n_1 n_2] G⁻¹, the least move that holds both (exact for flat
+// facets); the facets are settled as for one constraint.
+template <int D>
+void Elimination<D>::place_pair(const Group& g, Positions<D>& x, Positions<D>& x_mid) {
+  std::array<Constraint<D>*, 2> k{&(*constraints_)[g.constraint[0]], &(*constraints_)[g.constraint[1]]};
+  Vec<D> xs = x.col(g.slave);
+  std::array<int, 2> facet{k[0]->facet, k[1]->facet};
+  for (int pass = 0; pass < 4; ++pass) {
+    Eigen::Matrix<double, D, 2> n;
+    Eigen::Vector2d e;
+    bool same = true;
+    std::array<int, 2> next{};
+    for (int j = 0; j < 2; ++j) {
+      const Match<D> best = settle(*k[j], xs, facet[j], x, switches_[g.constraint[j]]);
+      n.col(j) = best.projection.normal;
+      e(j) = best.projection.gap - k[j]->gap;
+      next[j] = best.facet;
+      same = same && best.facet == facet[j];
+    }
+    xs -= n * (n.transpose() * n).ldlt().solve(e);
+    if (same) break;
+    for (int j = 0; j < 2; ++j)
+      if (next[j] != facet[j]) facet[j] = next[j], ++switches_[g.constraint[j]];
+  }
+  x.col(g.slave) = xs;
+  x_mid.col(g.slave) = 0.5 * (xs + (X_.col(g.slave) + u_n_.template segment<D>(g.slave * D)));
+  for (int j = 0; j < 2; ++j) set_mid_point(*k[j], facet[j], x_mid);
+}
+
+template <int D>
 void Elimination<D>::enforce(Eigen::VectorXd& u) {
   if (!pairs_) throw Error("Elimination::enforce needs the step's geometry (the geometry constructor)");
   Positions<D> x = positions(u), x_mid = 0.5 * (x + positions(u_n_));
   for (int sweep = 0; sweep < 2; ++sweep) {  // a second sweep settles chains
-    for (std::size_t c = 0; c < constraints_->size(); ++c) {
+    for (const Group& g : groups_) {
+      if (g.count == 2) {
+        place_pair(g, x, x_mid);
+        continue;
+      }
+      const int c = g.constraint[0];
       Constraint<D>& k = (*constraints_)[c];
       if (k.kind == Kind::stick) {  // (45): the slave at its point of the facet's frame
         zero_work::Facet<D, double> xm;

@@ -19,6 +19,15 @@
 /// on the dummy diagonal (44)/(59). A slave whose master node is itself a
 /// slave (a chain) is expanded by substitution in both maps (V is then
 /// taken to first order through the chained rows); a cycle is refused.
+/// A node on two slave surfaces may hold two frictionless constraints (of
+/// two pairs, with facet normals n_1, n_2 not parallel): it keeps one slip
+/// (3D: along n_1 × n_2; 2D: none), Δx_s = C [n_1ᵀ N_1 Δx_m1; n_2ᵀ N_2 Δx_m2]
+/// + (n_1 × n_2) Δξ with C = [n_1 n_2] G⁻¹, G = the normals' Gram matrix, so
+/// both gaps are held, and its residual is split between the two
+/// constraints' zero-work directions (zero_work::pair_frictionless_test).
+/// The maps, their rows and the reduced tangent's blocks are per slave
+/// node (a "group" of one or two constraints).
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -110,6 +119,14 @@ class Elimination {
     Coefficients trial, test;
   };
 
+  /// The constraints of one eliminated slave node: one, or two
+  /// frictionless ones of different pairs.
+  struct Group {
+    int slave = -1;
+    int count = 0;
+    std::array<int, 2> constraint{-1, -1};
+  };
+
   /// A constraint's nodes (slave, facet nodes) for the zero-work kernels:
   /// end positions, displacements over the step (from displacement
   /// differences, exact), the facet's start positions, and for stick the
@@ -120,12 +137,33 @@ class Elimination {
     Vec<D> offset = Vec<D>::Zero();
   };
   [[nodiscard]] Kernel kernel_input(const Constraint<D>& k, const Eigen::VectorXd& u) const;
+  /// End positions and displacements of a two-constraint group's nodes:
+  /// the slave, facet 1's nodes, facet 2's.
+  struct PairKernel {
+    Eigen::Matrix<double, D, 2 * D + 1> x, dx;
+  };
+  [[nodiscard]] PairKernel pair_input(const Group& g, const Eigen::VectorXd& u) const;
+  void make_groups();
   void build(const Eigen::VectorXd* u);
   [[nodiscard]] Local local(const Constraint<D>& k, const Eigen::VectorXd& u) const;
+  /// Two constraints on one slave: the trial map from the facets' normals
+  /// n_k and shape values at the slave's projections (ξ_k), the test map
+  /// from the zero-work directions if u is given, else the trial's.
+  [[nodiscard]] Local local_pair(const Group& g, const Eigen::VectorXd* u) const;
+  /// The facet of constraint k's master surface that slave position xs
+  /// projects on, starting from `facet` (walking and, at a concave edge,
+  /// taking a lower neighbour while switches stay under the cap).
+  [[nodiscard]] Match<D> settle(const Constraint<D>& k, const Vec<D>& xs, int facet, const Positions<D>& x,
+                                int switches) const;
+  /// Constraint k on `facet` at the mid-point positions: its master nodes, ξ, n, τ.
+  void set_mid_point(Constraint<D>& k, int facet, const Positions<D>& x_mid) const;
   void place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const;
+  /// Both constraints' gaps held at once (one Gram solve per pass).
+  void place_pair(const Group& g, Positions<D>& x, Positions<D>& x_mid);
   [[nodiscard]] SparseMatrix assemble(const std::vector<BlockRow<D>>& rows) const;
   [[nodiscard]] SlaveRows<D> slave_rows() const { return {slave_of_, slaves_, trial_rows_, test_rows_}; }
   void add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
+  void add_pair_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
   /// K_r += Ŵ_aᵀ G T̂_b: the derivative G of constraint c's test output at
   /// node `out` (its slip slots if `slip`) by the position of node `in`,
   /// through the nodes' rows of W and T (the identity for a free node).
@@ -137,11 +175,12 @@ class Elimination {
   Positions<D> X_;
   Eigen::VectorXd u_n_, u_;  ///< start of the step; the iterate the maps belong to
   int num_nodes_ = 0;
-  std::vector<int> slave_of_;                        ///< per node: its constraint, or −1
-  std::vector<int> slaves_;                          ///< per constraint: its slave node
-  std::vector<BlockRow<D>> trial_rows_, test_rows_;  ///< per constraint: the slave's rows of T and W (chains composed)
-  std::vector<Coefficients> test_;                   ///< per constraint: its test coefficients
-  std::vector<int> order_;                           ///< constraints, each after those of its chained master nodes
+  std::vector<Group> groups_;                        ///< per eliminated slave node
+  std::vector<int> slave_of_;                        ///< per node: its group, or −1
+  std::vector<int> slaves_;                          ///< per group: its slave node
+  std::vector<BlockRow<D>> trial_rows_, test_rows_;  ///< per group: the slave's rows of T and W (chains composed)
+  std::vector<Coefficients> test_;                   ///< per group: its test coefficients
+  std::vector<int> order_;                           ///< groups, each after those of its chained master nodes
   std::shared_ptr<TangentReduction<D>> reduction_;   ///< K_r's pattern and maps, kept while the nodes are unchanged
   static constexpr int kMaxSwitches = 2;
   std::vector<int> switches_;  ///< facet switches per constraint in this solve

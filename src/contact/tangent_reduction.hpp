@@ -29,11 +29,12 @@ struct BlockRow {
   std::vector<Mat<D>> blocks;  ///< D × D: rows the slave's dofs, columns the node's unknowns
 };
 
-/// The slaves' rows of T and W, per constraint (the elimination's view).
+/// The slaves' rows of T and W, per eliminated slave node (the
+/// elimination's view; a slave may hold one or two constraints).
 template <int D>
 struct SlaveRows {
-  const std::vector<int>& slave_of;  ///< per node: its constraint, or −1
-  const std::vector<int>& slaves;    ///< per constraint: its slave node
+  const std::vector<int>& slave_of;  ///< per node: its slave index, or −1
+  const std::vector<int>& slaves;    ///< per slave index: its node
   const std::vector<BlockRow<D>>& trial;
   const std::vector<BlockRow<D>>& test;
 };

@@ -26,6 +26,7 @@
 /// variation terms are obtained by automatic differentiation
 /// (unsupported/Eigen/AutoDiff).
 #include <Eigen/Dense>
+#include <array>
 
 #include "contact/facet.hpp"
 
@@ -182,9 +183,73 @@ TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx)
       c(i) = N(b);
       t.master.col(b * D + i) = c - ((N(b) * as(i) + abar(i, b + 1)) / as2) * as;
     }
-  for (int j = 0; j < D - 1; ++j)
-    t.slip.col(j) = mid.tangents.col(j) - (as.dot(mid.tangents.col(j)) / as2) * as;
+  // The slip rows: the tangents turned by the rotation R that takes n to
+  // â = ā_s/|ā_s| in their plane, R = 1 + K + K²/(1 + n·â), K = â nᵀ − n âᵀ.
+  // They span â's orthogonal complement whatever the angle, so Wᵀg = 0
+  // makes g_s ∥ ā_s (no work). Projecting the tangents on that complement
+  // instead loses a rank when ā_s turns tangential (a push-out with little
+  // other non-rigid motion: ā_s·n → 0), and the force then does work
+  // (docs/validation.md, §6.2). With ā = a, R = 1: the paper's τ (56).
+  const V<D, S> ahat = as / sqrt(as2);
+  const Eigen::Matrix<S, D, D> K = ahat * mid.normal.transpose() - mid.normal * ahat.transpose();
+  const Eigen::Matrix<S, D, D> R =
+      Eigen::Matrix<S, D, D>::Identity() + K + (K * K) / (S(1.0) + mid.normal.dot(ahat));
+  t.slip = R * mid.tangents;
 
+  return t;
+}
+
+/// Two frictionless constraints on one slave (a node on two slave
+/// surfaces, such as the rim where a ring's side meets the plane it stands
+/// on): positions of column 0 the slave, 1…D the nodes of facet 1, D+1…2D
+/// those of facet 2.
+template <int D, class S>
+using PairNodes = Eigen::Matrix<S, D, 2 * D + 1>;
+
+/// The slave parts of the two constraints' test columns. Each constraint k
+/// has its own zero-work direction ā_k (frictionless_direction on the slave
+/// and facet k); the slave's residual is split into the forces
+/// f = (AᵀA)⁻¹ Aᵀ g_s along A = [ā_1,s ā_2,s] (least squares: exact when
+/// g_s lies in their span), and facet k's node b receives −f_k ā_k,b: the
+/// column of its dof i is −ā_k(i, b) B_k, B = A (AᵀA)⁻¹. What is left of
+/// the slave's residual, its part along ā_1,s × ā_2,s, is the slip
+/// equation (3D; in 2D the slave has no slip). Wᵀg = 0 then holds exactly
+/// when g on the slave and both facets is f_1 ā_1 + f_2 ā_2: each force
+/// does no work over the step and has neither resultant nor moment, so E,
+/// L and J are kept as for one constraint. With ā_k = a_k these are the
+/// transpose of the trial map N_k(b) C_k n_kᵀ, C = [n_1 n_2] G⁻¹ (the
+/// paper's W = T).
+template <int D, class S>
+struct PairTestColumns {
+  Eigen::Matrix<S, D, 2 * D * D> master;  ///< column (k·D + b)·D + i: facet k's node b, dof i
+  V<D, S> slip;                           ///< 3D: the slip equation's direction; 2D: zero
+};
+
+template <int D, class S>
+PairTestColumns<D, S> pair_frictionless_test(const PairNodes<D, S>& x, const PairNodes<D, S>& dx) {
+  std::array<Nodes<D, S>, 2> abar;
+  Eigen::Matrix<S, D, 2> A;
+  for (int k = 0; k < 2; ++k) {
+    Nodes<D, S> xk, dxk;
+    xk.col(0) = x.col(0);
+    dxk.col(0) = dx.col(0);
+    xk.template rightCols<D>() = x.template middleCols<D>(1 + k * D);
+    dxk.template rightCols<D>() = dx.template middleCols<D>(1 + k * D);
+    Plane<D, S> mid;
+    abar[k] = frictionless_direction<D, S>(xk, dxk, mid);
+    A.col(k) = abar[k].col(0);
+  }
+  const Eigen::Matrix<S, 2, 2> AtA = A.transpose() * A;
+  const Eigen::Matrix<S, D, 2> B = A * AtA.inverse();
+  PairTestColumns<D, S> t;
+  for (int k = 0; k < 2; ++k)
+    for (int b = 0; b < D; ++b)
+      for (int i = 0; i < D; ++i) t.master.col((k * D + b) * D + i) = -abar[k](i, b + 1) * B.col(k);
+  if constexpr (D == 3) {
+    t.slip = A.col(0).cross(A.col(1)).normalized();
+  } else {
+    t.slip.setZero();
+  }
   return t;
 }
 

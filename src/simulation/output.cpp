@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 
 #include "contact/debug_output.hpp"
 #include "core/error.hpp"
@@ -181,11 +182,19 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
 template <int D>
 io::VtuField OutputWriter<D>::contact_field(int num_nodes) const {
   // Normal contact force f_N on active slaves [N]; NaN elsewhere, so that
-  // ParaView shows the active set by colour (and hides the rest).
+  // ParaView shows the active set by colour (and hides the rest). A slave
+  // holding two constraints shows the magnitude of f₁n₁ + f₂n₂, signed as
+  // their sum.
   io::VtuField f{"contact_normal_force", 1, std::vector<double>(num_nodes, std::nan(""))};
   const auto& constraints = contacts_->constraints();
   const auto& forces = contacts_->normal_forces();
-  for (std::size_t i = 0; i < constraints.size(); ++i) f.values[constraints[i].slave] = forces[i];
+  std::map<int, std::pair<Vec<D>, double>> total;  // per slave: Σ f n, Σ f
+  for (std::size_t i = 0; i < constraints.size(); ++i) {
+    auto& [vector, sum] = total.try_emplace(constraints[i].slave, Vec<D>::Zero(), 0.0).first->second;
+    vector += forces[i] * constraints[i].normal;
+    sum += forces[i];
+  }
+  for (const auto& [slave, t] : total) f.values[slave] = std::copysign(t.first.norm(), t.second);
   return f;
 }
 

@@ -78,6 +78,61 @@ TEST(Elimination, CyclesAreRefused) {
   EXPECT_THROW(Elimination<3>(7, twice), SolverError);
 }
 
+// A slave holding two frictionless constraints (a node on two slave
+// surfaces): its motion keeps both gaps to first order, n_kᵀ(Δu_s − N_k
+// Δu_mk) = 0, slides along n_1 × n_2 with slot 0, and its residual is split
+// between the two masters by the least-squares forces f = G⁻¹[n_1 n_2]ᵀ g_s
+// (the test map is the trial map's transpose without geometry).
+TEST(Elimination, TwoFrictionlessConstraintsOnOneSlave) {
+  Constraint<3> a = stick(0, {1, 2, 3}, 0.2, 0.3), b = stick(0, {4, 5, 6}, 0.5, 0.1);
+  a.kind = b.kind = Kind::frictionless;
+  a.pair = 0;
+  b.pair = 1;
+  a.normal = Vec3(0.0, 0.0, 1.0);
+  b.normal = Vec3(1.0, 0.0, 1.0).normalized();  // 45° apart
+  std::vector<Constraint<3>> constraints{a, b};
+  const Elimination<3> e(7, constraints);
+  const Eigen::VectorXd q = random_vector(21, 7);
+  Eigen::VectorXd du;
+  e.expand(q, du);
+  auto point = [&](const Constraint<3>& c) {
+    const Vec3 N = facet_shape<3>(c.xi);
+    Vec3 p = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) p += N(k) * du.segment<3>(3 * c.master[k]);
+    return p;
+  };
+  EXPECT_LT(std::abs(a.normal.dot(du.segment<3>(0) - point(a))), 1e-15);
+  EXPECT_LT(std::abs(b.normal.dot(du.segment<3>(0) - point(b))), 1e-15);
+  Eigen::VectorXd q_slip = Eigen::VectorXd::Zero(21);
+  q_slip[0] = 1.0;  // the slave's slot 0 alone: the slip along the edge
+  e.expand(q_slip, du);
+  EXPECT_LT((du.segment<3>(0).cwiseAbs() - Vec3(0.0, 1.0, 0.0)).norm(), 1e-15);
+  // Residual: a force f_1 n_1 + f_2 n_2 on the slave goes to the masters.
+  const Eigen::VectorXd g = [&] {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(21);
+    v.segment<3>(0) = 2.0 * a.normal + 3.0 * b.normal;
+    return v;
+  }();
+  Eigen::VectorXd r;
+  e.reduce_residual(g, r);
+  EXPECT_LT(r.segment<3>(0).norm(), 1e-15);  // no slip force, dummies zero
+  const Vec3 Na = facet_shape<3>(a.xi), Nb = facet_shape<3>(b.xi);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LT((r.segment<3>(3 * a.master[k]) - 2.0 * Na(k) * a.normal).norm(), 1e-14);
+    EXPECT_LT((r.segment<3>(3 * b.master[k]) - 3.0 * Nb(k) * b.normal).norm(), 1e-14);
+  }
+  // Three constraints, or two of one pair, are refused.
+  Constraint<3> c = b;
+  c.pair = 2;
+  std::vector<Constraint<3>> three{a, b, c};
+  EXPECT_THAT([&] { Elimination<3>(7, three); },
+              ::testing::ThrowsMessage<SolverError>(::testing::HasSubstr("at most two")));
+  Constraint<3> same = b;
+  same.pair = 0;
+  std::vector<Constraint<3>> one_pair{a, same};
+  EXPECT_THROW(Elimination<3>(7, one_pair), SolverError);
+}
+
 // (41): slave rows vanish, master rows get Nᵀ g_s, the others are untouched.
 TEST(Elimination, ReducedResidualIsPaperEquation41) {
   std::vector<Constraint<3>> constraints{stick(0, {1, 2, 3}, 0.2, 0.3)};

@@ -93,6 +93,63 @@ kind = ")" + kind + R"("
 )";
 }
 
+/// A block sliding into the corner of a rigid floor and a free elastic
+/// wall (1 m/s towards each, 1 mm from each): the nodes on its bottom
+/// edge next to the wall are on two slave surfaces (zmin on the floor,
+/// xmax on the wall) and hold both constraints. The wall reaches below the
+/// floor (no pair between them), so the corner is inside both masters.
+inline std::string corner_block(double end) {
+  return R"(dimension = 3
+[time]
+step = 2.0e-4
+end = )" + std::to_string(end) +
+         R"(
+[[body]]
+name = "block"
+translate = [0.0, 0.0, 0.051]
+velocity = [1.0, 0.0, -1.0]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.1
+ly = 0.1
+lz = 0.1
+size = 0.05
+[[body]]
+name = "wall"
+translate = [0.101, 0.0, 0.05]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.1
+ly = 0.2
+lz = 0.2
+size = 0.05
+[[body]]
+name = "floor"
+rigid = true
+[body.mesh]
+generator = "square"
+lx = 1.0
+ly = 1.0
+size = 0.25
+[[contact]]
+slave = "block:zmin"
+master = "floor:surface"
+kind = "frictionless"
+[[contact]]
+slave = "block:xmax"
+master = "wall:xmin"
+kind = "frictionless"
+)";
+}
+
 }  // namespace conserve::test
 
 namespace conserve::test {

@@ -51,8 +51,11 @@ double reduced_tangent_error(ContactRun<D>& run) {
   const std::size_t count = base.constraints().size();
   std::vector<char> skip(model.num_dofs(), 0);
   for (int d : model.prescribed.dofs) skip[d] = 1;
+  // Dummy slots: a frictionless slave has D − (its constraints) slips, stick none.
+  std::vector<int> held(model.num_nodes(), 0);
+  for (const auto& c : at_base->constraints) ++held[c.slave];
   for (const auto& c : at_base->constraints)
-    for (int i = (c.kind == contact::Kind::frictionless ? D - 1 : 0); i < D; ++i) skip[c.slave * D + i] = 1;
+    for (int i = (c.kind == contact::Kind::frictionless ? D - held[c.slave] : 0); i < D; ++i) skip[c.slave * D + i] = 1;
   const double h = 1e-7 * model.size();
   double err = 0.0, scale = 0.0;
   for (int j = 0; j < model.num_dofs(); ++j) {
