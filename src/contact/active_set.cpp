@@ -93,17 +93,39 @@ bool within_surface(const ContactSurface& surface, const Match<D>& m, double tol
   return true;
 }
 
+/// Whether slave s, behind facet `end.facet` at the end of the step but
+/// beyond the surface's border there, entered through the surface: it was
+/// not behind that facet's plane at the start of the step (x_n), and the
+/// point where its straight path crossed the plane (ξ interpolated
+/// linearly at the gap's zero) lies within the surface. A slave level with
+/// the border (the bottom rims of two rings standing on one plane) has its
+/// projection pushed beyond a tilted border facet by any penetration, and
+/// would sink unseen; one passing beside the master crosses the plane
+/// beyond the border and is left alone.
+template <int D>
+bool entered_through(const ContactPair<D>& pair, int s, const Match<D>& end, const Positions<D>& x_n) {
+  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pair.master, end.facet, x_n));
+  if (!(start.gap >= 0.0) || !(end.projection.gap < start.gap)) return false;
+  const double at = start.gap / (start.gap - end.projection.gap);
+  Match<D> crossing = end;
+  crossing.projection.xi = start.xi + at * (end.projection.xi - start.xi);
+  return within_surface<D>(pair.master, crossing, pair.search.border_tolerance);
+}
+
 template <int D>
 std::optional<Match<D>> ActiveSet<D>::search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
-                                             const Vec<D>& slave_normal) const {
-  const auto match = find_master<D>(x.col(pair.slave.nodes[i]), pair.master, pair.tree, x, pair.search, slave_normal);
-  if (!match || !within_surface<D>(pair.master, *match, pair.search.border_tolerance)) return std::nullopt;
-  return match;
+                                             const Vec<D>& slave_normal, const Positions<D>* x_n) const {
+  const int s = pair.slave.nodes[i];
+  const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal);
+  if (!match) return std::nullopt;
+  if (within_surface<D>(pair.master, *match, pair.search.border_tolerance)) return match;
+  if (x_n && entered_through<D>(pair, s, *match, *x_n)) return match;
+  return std::nullopt;
 }
 
 template <int D>
 template <class Visit>
-void ActiveSet<D>::for_each_match(const Positions<D>& x, Visit&& visit) {
+void ActiveSet<D>::for_each_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n) {
   for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
     ContactPair<D>& pair = pairs_[p];
     pair.tree.refit(x);
@@ -111,7 +133,7 @@ void ActiveSet<D>::for_each_match(const Positions<D>& x, Visit&& visit) {
     for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
       const int s = pair.slave.nodes[i];
       if (prescribed_[s]) continue;
-      if (const auto match = search(pair, i, x, normals[i])) visit(p, i, s, *match);
+      if (const auto match = search(pair, i, x, normals[i], x_n)) visit(p, i, s, *match);
     }
   }
 }
@@ -125,7 +147,15 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
   const bool released = release_tensile(x_mid, g, stats);
   const SetChange activated = activate_penetrating(x_n, x_np1, stats);
   if (activated == SetChange::split) return activated;
-  return released || activated == SetChange::changed ? SetChange::changed : SetChange::none;
+  if (released || activated == SetChange::changed) return SetChange::changed;
+  // The step is taken: a slave that held (48) in it holds its end gap from now on.
+  for (Constraint<D>& c : active_) {
+    if (!c.rate) continue;
+    c.gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_np1)).gap;
+    c.rate = false;
+    ++stats.rate_steps;
+  }
+  return SetChange::none;
 }
 
 template <int D>
@@ -189,7 +219,7 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
     if (!active_in_[p][i] && match.projection.gap < -pairs_[p].search.penetration_tolerance &&
         can_hold(p, s, match.projection.normal))
       fraction = std::min(fraction, split_at(make_constraint(p, s, match, x_n, x), match, x_n));
-  });
+  }, &x_n);
   return fraction;
 }
 
@@ -288,7 +318,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
       mark(c);  // a node on two slave surfaces: a second one only if can_hold()
       activated.push_back(c);
     }
-  });
+  }, &x_n);
   for (const Constraint<D>& c : active_) {
     const ContactPair<D>& pair = pairs_[c.pair];
     double gap = active_gap[c.pair][static_cast<std::size_t>(pair.slave.local_node(c.slave))];

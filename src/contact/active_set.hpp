@@ -42,6 +42,9 @@ struct StepContactStats {
   /// solves (passes) they took (set by the stepper).
   int splits = 0;
   int split_passes = 0;
+  /// Frictionless constraints that held the paper's rate condition (48)
+  /// instead of their gap in the step (Constraint::rate).
+  int rate_steps = 0;
   double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   /// At the end of the step: the deepest slave behind a master facet,
   /// active or not (0 if none), and the extreme gaps of the active slaves
@@ -178,14 +181,16 @@ class ActiveSet {
   /// slave's normal motion relative to the facet (make_constraint).
   [[nodiscard]] double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) const;
   /// The master facet slave `pair.slave.nodes[i]` is behind or in front of
-  /// at positions x (the tree refitted to x), within the surface.
+  /// at positions x (the tree refitted to x), within the surface; given the
+  /// step's start x_n, also a facet beyond the border that the slave
+  /// entered through the surface in the step (entered_through).
   [[nodiscard]] std::optional<Match<D>> search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
-                                               const Vec<D>& slave_normal) const;
+                                               const Vec<D>& slave_normal, const Positions<D>* x_n = nullptr) const;
   /// Calls visit(pair, i, slave node, match) for every slave that is not
-  /// prescribed and has a master facet at positions x (search()), pair by
-  /// pair (each pair's tree refitted to x first).
+  /// prescribed and has a master facet at positions x (search(), with x_n
+  /// if given), pair by pair (each pair's tree refitted to x first).
   template <class Visit>
-  void for_each_match(const Positions<D>& x, Visit&& visit);
+  void for_each_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n = nullptr);
 
   /// Whether slave node s may take a constraint of pair p whose facet has
   /// normal `normal`: when it holds none, or holds one frictionless

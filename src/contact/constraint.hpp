@@ -48,6 +48,14 @@ struct Constraint {
   /// at zero work (ActiveSet::make_constraint); negative for a slave held
   /// behind. Stick: the height of the slave above ξ̄.
   double gap = 0.0;
+  /// Frictionless, for the rest of the step: the paper's rate condition
+  /// (48), n_{n+½}·(Δx_s − N_{n+½} Δx_m) = 0, instead of the held gap γ,
+  /// because the zero-work direction of the held gap turned away from the
+  /// normal (Elimination::enforce, kRateCosine). Under (48) a·Δx = 0, so
+  /// the force is the paper's normal one. When the step is taken, γ
+  /// becomes the slave's end gap and the flag is cleared
+  /// (ActiveSet::update).
+  bool rate = false;
   /// The step the slave was activated in (its first step in contact).
   std::int64_t activated_step = 0;
   /// f_N = g_s·n_{n+½} at the last update of the active set [N], and at

@@ -491,6 +491,22 @@ template <int D>
 void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const {
   Vec<D> xs = x.col(k.slave);
   int facet = k.facet;
+  const Vec<D> xs_n = X_.col(k.slave) + u_n_.template segment<D>(k.slave * D);
+  if (k.rate) {  // (60)–(64): the slave along n_{n+½} until (48) holds
+    const Match<D> best = settle(k, xs, facet, x, switches);
+    if (best.facet != facet) ++switches;
+    x_mid.col(k.slave) = 0.5 * (xs + xs_n);
+    set_mid_point(k, best.facet, x_mid);
+    Vec<D> relative = xs - xs_n;
+    const Vec<D> N = facet_shape<D>(k.xi);
+    for (int b = 0; b < D; ++b)
+      relative -= N(b) * (x.col(k.master[b]) - X_.col(k.master[b]) - u_n_.template segment<D>(k.master[b] * D));
+    xs -= relative.dot(k.normal) * k.normal;  // flat facet: ξ_{n+½} and n_{n+½} unchanged
+    x.col(k.slave) = xs;
+    x_mid.col(k.slave) = 0.5 * (xs + xs_n);
+    set_mid_point(k, best.facet, x_mid);
+    return;
+  }
   for (int pass = 0; pass < 4; ++pass) {
     const Match<D> best = settle(k, xs, facet, x, switches);
     xs -= (best.projection.gap - k.gap) * best.projection.normal;
@@ -499,7 +515,7 @@ void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Posit
     ++switches;
   }
   x.col(k.slave) = xs;
-  x_mid.col(k.slave) = 0.5 * (xs + (X_.col(k.slave) + u_n_.template segment<D>(k.slave * D)));
+  x_mid.col(k.slave) = 0.5 * (xs + xs_n);
   set_mid_point(k, facet, x_mid);
 }
 
@@ -557,7 +573,37 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
   }
   for (const Constraint<D>& k : *constraints_)
     u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
+  if (switch_to_rate(u)) {
+    for (const Group& g : groups_) {
+      Constraint<D>& k = (*constraints_)[g.constraint[0]];
+      if (g.count == 1 && k.rate) place_frictionless(k, x, x_mid, switches_[g.constraint[0]]);
+    }
+    for (const Constraint<D>& k : *constraints_)
+      u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
+  }
   build(&u);
+}
+
+// A held gap asks for a zero-work force direction ā that differs from the
+// paper's a by a multiple of the constraint's non-rigid motion w (F2);
+// when a·Δx is not small against |w| (a slave held where it hardly moves
+// while its facet changes at an edge, or pushed out with little other
+// motion), ā turns tangential and Newton cannot balance it. Such a
+// constraint takes the paper's (48) for the rest of the step: then
+// a·Δx = 0 and ā = a, the force is normal, and E, L, J are conserved as
+// in the paper (docs/theory.md, "When the held gap gives way to (48)").
+template <int D>
+bool Elimination<D>::switch_to_rate(const Eigen::VectorXd& u) {
+  if (!pairs_) return false;
+  bool any = false;
+  for (const Group& g : groups_) {
+    if (g.count != 1) continue;
+    Constraint<D>& k = (*constraints_)[g.constraint[0]];
+    if (k.kind != Kind::frictionless || k.rate) continue;
+    const Kernel in = kernel_input(k, u);
+    if (zero_work::frictionless_test<D, double>(in.x, in.dx).cosine < kRateCosine) k.rate = any = true;
+  }
+  return any;
 }
 
 template <int D>

@@ -92,7 +92,9 @@ class Elimination {
   /// Applies the reduced increment: u += T q, then enforce(u).
   void update(const Eigen::VectorXd& q, Eigen::VectorXd& u);
   /// Puts the slaves where their constraints hold: stick slaves at F(x_m),
-  /// frictionless slaves back to their gap γ on their end facet; updates
+  /// frictionless slaves back to their gap γ on their end facet (or by
+  /// (48) if Constraint::rate: switched there when the held gap's zero-work
+  /// direction turns more than 60° from the normal); updates
   /// the facets (end and mid-point) and ξ, n, τ of the constraints, and the
   /// maps.
   void enforce(Eigen::VectorXd& u);
@@ -183,6 +185,13 @@ class Elimination {
   std::vector<int> order_;                           ///< groups, each after those of its chained master nodes
   std::shared_ptr<TangentReduction<D>> reduction_;   ///< K_r's pattern and maps, kept while the nodes are unchanged
   static constexpr int kMaxSwitches = 2;
+  /// Frictionless slaves whose ā_s points closer than this to the facet
+  /// plane (â·n below it: more than 60° from the normal) at an iterate
+  /// hold the rate condition (48) for the rest of the step (Constraint::rate).
+  static constexpr double kRateCosine = 0.5;
+  /// Which single frictionless constraints' zero-work directions are
+  /// degenerate at u (â·n < kRateCosine): they are switched to (48).
+  bool switch_to_rate(const Eigen::VectorXd& u);
   std::vector<int> switches_;  ///< facet switches per constraint in this solve
 };
 

@@ -166,6 +166,9 @@ template <int D, class S>
 struct TestColumns {
   FacetJacobian<D, S> master;
   Eigen::Matrix<S, D, D - 1> slip;
+  /// â·n_{n+½}, â = ā_s/|ā_s|: 1 when ā = a (the paper's force); near 0
+  /// when the zero-work correction has turned the slave's force tangential.
+  S cosine;
 };
 
 template <int D, class S>
@@ -195,7 +198,7 @@ TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx)
   const Eigen::Matrix<S, D, D> R =
       Eigen::Matrix<S, D, D>::Identity() + K + (K * K) / (S(1.0) + mid.normal.dot(ahat));
   t.slip = R * mid.tangents;
-
+  t.cosine = mid.normal.dot(ahat);
   return t;
 }
 

@@ -20,7 +20,7 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 2: 64-bit step and counters, the fingerprint's named entries instead of
 /// one hash. 3: the constraints' activation step and normal force. 4: the
 /// end of a step cut short at an impact.
-constexpr std::uint32_t kVersion = 4;
+constexpr std::uint32_t kVersion = 5;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -134,6 +134,7 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(static_cast<std::int64_t>(t.loaded_releases));
   w.value(static_cast<std::int64_t>(t.splits));
   w.value(static_cast<std::int64_t>(t.split_passes));
+  w.value(static_cast<std::int64_t>(t.rate_steps));
   w.value(t.max_activation_gap);
   for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
                    t.min_det_F})
@@ -154,6 +155,7 @@ RunTotals read_totals(Reader& r) {
   t.loaded_releases = r.value<std::int64_t>();
   t.splits = r.value<std::int64_t>();
   t.split_passes = r.value<std::int64_t>();
+  t.rate_steps = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
   for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
                     &t.max_penetration, &t.min_det_F})
@@ -204,6 +206,7 @@ void RunTotals::add(const contact::StepContactStats& c) {
   loaded_releases += c.loaded_releases;
   splits += c.splits;
   split_passes += c.split_passes;
+  rate_steps += c.rate_steps;
   max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
   max_penetration = std::max(max_penetration, c.max_penetration);
   if (!std::isnan(c.min_active_gap)) {

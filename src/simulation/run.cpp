@@ -153,6 +153,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.loaded_releases = totals.loaded_releases;
   summary.splits = totals.splits;
   summary.split_passes = totals.split_passes;
+  summary.rate_steps = totals.rate_steps;
   summary.min_active_gap = totals.min_active_gap;
   summary.max_active_gap = totals.max_active_gap;
   summary.max_penetration = totals.max_penetration;

@@ -39,6 +39,7 @@ Json figures(const RunSummary& s, int unknowns) {
               {"loaded_releases", s.loaded_releases},
               {"impact_splits", s.splits},
               {"impact_split_passes", s.split_passes},
+              {"rate_steps", s.rate_steps},
               {"max_activation_gap", s.max_activation_gap},
               {"seconds",
                {{"assembly", t.assembly},

@@ -266,5 +266,64 @@ TEST(Elimination, ReducedTangentKeepsItsPattern) {
   EXPECT_LT((Eigen::MatrixXd(Kr) - product_formula(e, scattered)).norm(), 1e-13);
 }
 
+// The held gap gives way to the paper's rate condition (48) when its
+// zero-work direction turns tangential (Elimination::enforce). A slave
+// held at γ = 0 that starts 1 mm behind a facet which does not move asks
+// for a push-out that is the constraint's only non-rigid motion: the
+// zero-work direction on the slave is then exactly tangential (ā_s·n = 0),
+// a force frictionless contact cannot balance. The slave is given (48)
+// instead: it stays where its motion relative to the facet puts it (1 mm
+// behind, as in the paper) and its force is the paper's, along n. With the
+// facet stretched and the slave sliding, the same push-out is a small part
+// of the motion: the gap is held (negative control).
+struct PushOutCase {
+  Positions<3> X = Positions<3>(3, 4);
+  Eigen::VectorXd u_n = Eigen::VectorXd::Zero(12), u = Eigen::VectorXd::Zero(12);
+  std::vector<ContactPair<3>> pairs{1};
+  std::vector<Constraint<3>> constraints;
+  explicit PushOutCase(double stretch) {
+    X << 0.3, 0.0, 1.0, 0.0,  // node 0 the slave, 1–3 the facet in z = 0
+        0.3, 0.0, 0.0, 1.0,   //
+        -1e-3, 0.0, 0.0, 0.0;
+    pairs[0].master.facets = Eigen::Matrix<int, 3, 1>(1, 2, 3);
+    build_adjacency(pairs[0].master, 3);
+    u = u_n;
+    u(3 * 2) = stretch;         // node 2 moves along x: the facet stretches
+    u(0) = 0.5 * stretch;       // and the slave slides
+    Constraint<3> c;
+    c.pair = 0;
+    c.slave = 0;
+    c.kind = Kind::frictionless;
+    c.facet = 0;
+    c.master = {1, 2, 3};
+    c.gap = 0.0;  // pushed out to the facet
+    constraints.push_back(c);
+  }
+  double end_gap() const { return X(2, 0) + u(2); }
+};
+
+TEST(Elimination, DegeneratePushOutHoldsThePaperRateCondition) {
+  PushOutCase still(0.0);
+  Elimination<3> e(still.X, still.u_n, still.u, still.constraints, still.pairs);
+  e.enforce(still.u);
+  const Constraint<3>& k = still.constraints[0];
+  EXPECT_TRUE(k.rate);
+  EXPECT_NEAR(still.end_gap(), -1e-3, 1e-15);  // (48): no relative normal motion
+  // The force is the paper's: a residual f n on the slave goes to the
+  // facet's nodes as N_b f n (56), with no slip force.
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(12), r;
+  g(2) = 2.0;
+  e.reduce_residual(g, r);
+  EXPECT_LT(r.head<3>().norm(), 1e-15);
+  const Vec3 N = facet_shape<3>(k.xi);
+  for (int b = 0; b < 3; ++b) EXPECT_LT((r.segment<3>(3 * (b + 1)) - 2.0 * N(b) * Vec3::UnitZ()).norm(), 1e-14);
+
+  PushOutCase stretched(0.1);  // 0.1 m of strain and slip against a 1 mm push-out
+  Elimination<3> held(stretched.X, stretched.u_n, stretched.u, stretched.constraints, stretched.pairs);
+  held.enforce(stretched.u);
+  EXPECT_FALSE(stretched.constraints[0].rate);
+  EXPECT_NEAR(stretched.end_gap(), 0.0, 1e-15);
+}
+
 }  // namespace
 }  // namespace conserve::contact

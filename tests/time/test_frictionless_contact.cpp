@@ -246,20 +246,48 @@ TEST(FrictionlessContact, ThreeCylindersPassTheirMomentumAlong) {
 // complement (never rank-deficient) and a slave that starts behind its
 // facet is only pushed out when the step's other non-rigid motion can
 // take it (ActiveSet::push_out); else it is held where it started.
-TEST(FrictionlessContact, TwoHollowCylindersThroughTheirFirstContact) {
-  ContactRun<3> run(example("cylinders/two_hollow_cylinders.toml"));
+struct HollowCylinders {
+  double energy = 0.0, linear_x = 0.0;
+  int rate_steps = 0;  ///< constraints that held (48) for a step instead of their gap
+};
+
+HollowCylinders run_hollow_cylinders(const std::string& scenario, int steps) {
+  ContactRun<3> run(scenario);
   const Diagnostics d0 = run.diagnostics();
-  double e = 0.0, lx = 0.0;
-  const int steps = 60;
+  HollowCylinders r;
   for (int n = 0; n < steps; ++n) {
-    ASSERT_NO_THROW(run.step()) << "step " << n + 1;
+    EXPECT_NO_THROW(run.step()) << "step " << n + 1;
+    if (::testing::Test::HasFailure()) return r;
     const Diagnostics d = run.diagnostics();
-    e = std::max(e, std::abs(d.total - d0.total) / d0.total);
-    lx = std::max(lx, std::abs(d.linear.x() - d0.linear.x()) / d0.linear.x());
+    r.energy = std::max(r.energy, std::abs(d.total - d0.total) / d0.total);
+    r.linear_x = std::max(r.linear_x, std::abs(d.linear.x() - d0.linear.x()) / d0.linear.x());
+    r.rate_steps += run.integrator->contact_stats().rate_steps;
   }
-  std::printf("[ measured ] two hollow cylinders, %d steps: drift E %.2e, L_x %.2e\n", steps, e, lx);
-  EXPECT_LT(e, 1e-10);
-  EXPECT_LT(lx, 1e-10);
+  std::printf("[ measured ] two hollow cylinders, %d steps: drift E %.2e, L_x %.2e; %d constraint-steps under (48)\n",
+              steps, r.energy, r.linear_x, r.rate_steps);
+  return r;
+}
+
+TEST(FrictionlessContact, TwoHollowCylindersThroughTheirFirstContact) {
+  const HollowCylinders r = run_hollow_cylinders(example("cylinders/two_hollow_cylinders.toml"), 60);
+  EXPECT_LT(r.energy, 1e-10);
+  EXPECT_LT(r.linear_x, 1e-10);
+}
+
+// The same with impacts located in time and the persistent velocity.
+// FAILED until 2026-11-24 (stopped at the cutback floor in step 44): a
+// held slave whose zero-work direction turned tangential (a rim slave
+// hardly moving while its facet changes at the other ring's rim). Such a
+// constraint now holds the paper's rate condition (48) for the step
+// (Elimination::enforce), under which the force is the paper's normal one.
+TEST(FrictionlessContact, TwoHollowCylindersLocatedThroughTheirFirstContact) {
+  std::string scenario = example("cylinders/two_hollow_cylinders.toml");
+  const std::string section = "[active_set]\n";
+  scenario.replace(scenario.find(section), section.size(), section + "scheme = \"persistent\"\nlocate_impacts = true\n");
+  const HollowCylinders r = run_hollow_cylinders(scenario, 60);
+  EXPECT_GT(r.rate_steps, 0);
+  EXPECT_LT(r.energy, 1e-10);
+  EXPECT_LT(r.linear_x, 1e-10);
 }
 
 // The reduced tangent where constraints chain (the middle cylinder is the
