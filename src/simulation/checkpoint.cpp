@@ -19,7 +19,8 @@ namespace {
 constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 2: 64-bit step and counters, the fingerprint's named entries instead of
 /// one hash. 3: the constraints' activation step and normal force. 4: the
-/// end of a step cut short at an impact.
+/// end of a step cut short at an impact. 5: the count of constraint-steps
+/// under the rate condition (48) in the run's totals.
 constexpr std::uint32_t kVersion = 5;
 
 /// Appends raw values to a byte buffer.
