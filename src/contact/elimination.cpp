@@ -164,6 +164,7 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
   const auto t = zero_work::frictionless_test<D, double>(in.x, in.dx);
   l.test.master = t.master;
   l.test.slip = t.slip;
+  l.cosine = t.cosine;
   return l;
 }
 
@@ -280,7 +281,8 @@ void Elimination<D>::build(const Eigen::VectorXd* u) {
   std::vector<const Coefficients*> trial, test;
   for (const Local& l : locals) trial.push_back(&l.trial), test.push_back(&l.test);
   test_.clear();
-  for (const Local& l : locals) test_.push_back(l.test);
+  cosine_.clear();
+  for (const Local& l : locals) test_.push_back(l.test), cosine_.push_back(l.cosine);
   const std::size_t count = groups_.size();
   slaves_.resize(count);
   for (std::size_t g = 0; g < count; ++g) slaves_[g] = groups_[g].slave;
@@ -573,14 +575,14 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
   }
   for (const Constraint<D>& k : *constraints_)
     u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
-  if (switch_to_rate(u)) {
-    for (const Group& g : groups_) {
-      Constraint<D>& k = (*constraints_)[g.constraint[0]];
-      if (g.count == 1 && k.rate) place_frictionless(k, x, x_mid, switches_[g.constraint[0]]);
-    }
-    for (const Constraint<D>& k : *constraints_)
-      u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
+  build(&u);
+  if (!switch_to_rate()) return;
+  for (const Group& g : groups_) {
+    Constraint<D>& k = (*constraints_)[g.constraint[0]];
+    if (g.count == 1 && k.rate) place_frictionless(k, x, x_mid, switches_[g.constraint[0]]);
   }
+  for (const Constraint<D>& k : *constraints_)
+    u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
   build(&u);
 }
 
@@ -593,15 +595,12 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
 // a·Δx = 0 and ā = a, the force is normal, and E, L, J are conserved as
 // in the paper (docs/theory.md, "When the held gap gives way to (48)").
 template <int D>
-bool Elimination<D>::switch_to_rate(const Eigen::VectorXd& u) {
-  if (!pairs_) return false;
+bool Elimination<D>::switch_to_rate() {
   bool any = false;
-  for (const Group& g : groups_) {
-    if (g.count != 1) continue;
-    Constraint<D>& k = (*constraints_)[g.constraint[0]];
-    if (k.kind != Kind::frictionless || k.rate) continue;
-    const Kernel in = kernel_input(k, u);
-    if (zero_work::frictionless_test<D, double>(in.x, in.dx).cosine < kRateCosine) k.rate = any = true;
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    if (groups_[g].count != 1) continue;
+    Constraint<D>& k = (*constraints_)[groups_[g].constraint[0]];
+    if (k.kind == Kind::frictionless && !k.rate && cosine_[g] < kRateCosine) k.rate = any = true;
   }
   return any;
 }

@@ -119,6 +119,7 @@ class Elimination {
 
   struct Local {
     Coefficients trial, test;
+    double cosine = 1.0;  ///< frictionless: â·n of its zero-work direction (zero_work::TestColumns)
   };
 
   /// The constraints of one eliminated slave node: one, or two
@@ -189,9 +190,10 @@ class Elimination {
   /// plane (â·n below it: more than 60° from the normal) at an iterate
   /// hold the rate condition (48) for the rest of the step (Constraint::rate).
   static constexpr double kRateCosine = 0.5;
-  /// Which single frictionless constraints' zero-work directions are
-  /// degenerate at u (â·n < kRateCosine): they are switched to (48).
-  bool switch_to_rate(const Eigen::VectorXd& u);
+  /// Switches to (48) the single frictionless constraints whose zero-work
+  /// direction at the last build was degenerate (â·n < kRateCosine).
+  bool switch_to_rate();
+  std::vector<double> cosine_;  ///< per group: â·n at the last build (1 if not applicable)
   std::vector<int> switches_;  ///< facet switches per constraint in this solve
 };
 
