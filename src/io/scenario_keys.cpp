@@ -379,7 +379,7 @@ SectionSpec active_set_section() {
                .type = KeyType::boolean,
                .default_value = "false",
                .doc = "end a step early where a slave would meet its master with a gap above `gap_tolerance`, "
-                      "and take the rest of the step after it, so that contact takes hold at the crossing (no "
+                      "and go on from there at the full step, so that contact takes hold at the crossing (no "
                       "hovering gap; variable steps conserve as fixed ones, docs/theory.md); use it with "
                       "`scheme = \"persistent\"`: with the paper's velocity, slaves bounce off at every "
                       "activation and each return is another split; `false`: a slave is activated holding "

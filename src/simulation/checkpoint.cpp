@@ -20,8 +20,9 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 2: 64-bit step and counters, the fingerprint's named entries instead of
 /// one hash. 3: the constraints' activation step and normal force. 4: the
 /// end of a step cut short at an impact. 5: the count of constraint-steps
-/// under the rate condition (48) in the run's totals.
-constexpr std::uint32_t kVersion = 5;
+/// under the rate condition (48) in the run's totals. 6: no end of a cut
+/// step (the steps after one go on at the full Δt).
+constexpr std::uint32_t kVersion = 6;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -256,7 +257,6 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
   w.value(static_cast<std::int64_t>(c.control.cutbacks));
-  w.value(c.control.step_end);
   write_totals(w, c.totals);
   w.value(static_cast<std::uint64_t>(c.constraints.size()));
   for (const auto& constraint : c.constraints) write_constraint<D>(w, constraint);
@@ -301,7 +301,6 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
   c.control.cutbacks = r.value<std::int64_t>();
-  c.control.step_end = r.value<double>();
   c.totals = read_totals(r);
   const auto count = r.value<std::uint64_t>();
   if (count > static_cast<std::uint64_t>(model.num_nodes())) r.fail("more constraints than nodes");

@@ -53,9 +53,6 @@ struct StepControl {
   double dt = 0.0;            ///< the step size to try next [s]
   int good_steps = 0;         ///< converged steps since the last change of dt
   std::int64_t cutbacks = 0;  ///< failed attempts over the run
-  /// While above the state's time: the end of a step cut short at an
-  /// impact, which the next step goes on to [s].
-  double step_end = 0.0;
 };
 
 template <int D>

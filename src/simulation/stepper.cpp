@@ -52,17 +52,14 @@ template <int D>
 StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failures) {
   const std::vector<contact::Constraint<D>> saved = contacts_->constraints();
   failures = 0;
-  // What is left of a step cut short at an impact is taken next, so that
-  // the steps come back to the grid of Δt; a rest below a quarter of Δt
-  // is taken together with the following step.
+  // After a step cut short at an impact the steps go on at the full Δt
+  // from there (off the scenario's grid, as after a cutback): the step
+  // that holds an unresolved collision is as long as the scenario's, not
+  // whatever is left of the step that was cut. The last step ends at the
+  // end time.
   double dt = control_.dt;
-  if (control_.step_end > state.time) {
-    dt = control_.step_end - state.time;
-    if (dt < 0.25 * control_.dt) {
-      control_.step_end += control_.dt;
-      dt += control_.dt;
-    }
-  }
+  const double left = scenario_.time.end - state.time;
+  if (left < dt * (1.0 - 1e-9)) dt = left;
   int splits = 0, split_passes = 0;
   bool locate = true;
   for (;;) {
@@ -72,7 +69,6 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       const solver::NewtonReport report = integrator_->step(state, dt);
       contact::StepContactStats stats = integrator_->contact_stats();
       if (stats.split_fraction < 1.0) {  // an impact within the step: end the step there
-        if (!(control_.step_end > state.time)) control_.step_end = state.time + dt;
         contacts_->set_constraints(saved);
         ++splits;
         split_passes += stats.passes;
@@ -98,7 +94,6 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       integrator_->drop_factorization();
       if (0.5 * dt < scenario_.time.min_step) throw FloorReached(e.what(), dt);
       control_.dt = 0.5 * dt;
-      control_.step_end = 0.0;  // the grid starts again from this step
       control_.good_steps = 0;
       ++control_.cutbacks;
       ++failures;

@@ -60,9 +60,9 @@ class Stepper {
   /// same active set) with Δt halved after each failure; Δt doubles back
   /// towards the scenario's after StepControl::kGrowAfter good steps.
   /// With impacts located, a step that meets an impact is retried ending
-  /// where the integrator says (at most kMaxSplits times), and the rest
-  /// of it is the next step. `dt_used` and `failures` tell what it took.
-  /// Throws FloorReached.
+  /// where the integrator says (at most kMaxSplits times); the steps
+  /// after it are full ones again. No step goes past the scenario's end
+  /// time. `dt_used` and `failures` tell what it took. Throws FloorReached.
   StepRecord advance(model::State& state, double& dt_used, int& failures);
   /// Why the last failed attempt of advance() failed (empty if none has).
   [[nodiscard]] const std::string& last_failure() const { return last_failure_; }

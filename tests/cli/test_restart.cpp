@@ -72,9 +72,9 @@ TEST(Restart, StickContactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_ball", kBallOnPlane, 80, 75);
 }
 
-// With impacts located, a checkpoint written after a step cut short at an
-// impact must carry where that step was to end: the restarted run takes
-// the same rest of it (checkpoint format 4, StepControl::step_end).
+// With impacts located, a run restarted from the checkpoint of a step cut
+// short at an impact goes on off the grid of Δt exactly as the run that
+// wrote it.
 TEST(Restart, LocatedImpactHistoryIsBitIdentical) {
   const std::string scenario = glancing_spheres(2, "frictionless", 0.05) +
                                "[active_set]\nscheme = \"persistent\"\nlocate_impacts = true\n"
