@@ -396,20 +396,25 @@ double ActiveSet<D>::push_out(const Constraint<D>& c, const Positions<D>& x_a, c
 }
 
 template <int D>
-Penetration ActiveSet<D>::max_penetration(const Eigen::VectorXd& u) {
+Penetration ActiveSet<D>::max_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n) {
   const Positions<D> x = positions(u);
+  const Positions<D> x_n = u_n ? positions(*u_n) : Positions<D>();
   Penetration deepest;
-  for_each_match(x, [&](int, std::size_t, int s, const Match<D>& match) {
-    if (-match.projection.gap > deepest.depth) deepest = {-match.projection.gap, s};
-  });
+  for_each_match(
+      x,
+      [&](int, std::size_t, int s, const Match<D>& match) {
+        if (-match.projection.gap > deepest.depth) deepest = {-match.projection.gap, s};
+      },
+      u_n ? &x_n : nullptr);
   return deepest;
 }
 
 template <int D>
-ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u) {
+ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n) {
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   if (active_.empty()) return {nan, nan};
   const Positions<D> x = positions(u);
+  const Positions<D> x_n = u_n ? positions(*u_n) : Positions<D>();
   std::vector<std::vector<Vec<D>>> normals;
   for (ContactPair<D>& pair : pairs_) {
     pair.tree.refit(x);
@@ -419,7 +424,7 @@ ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u) {
   for (const Constraint<D>& c : active_) {
     const ContactPair<D>& pair = pairs_[c.pair];
     const auto i = static_cast<std::size_t>(pair.slave.local_node(c.slave));
-    const auto match = search(pair, i, x, normals[c.pair][i]);
+    const auto match = search(pair, i, x, normals[c.pair][i], u_n ? &x_n : nullptr);
     const double gap = match ? match->projection.gap
                              : project<D>(x.col(c.slave), facet_nodes<D>(pair.master, c.facet, x)).gap;
     gaps.min = std::min(gaps.min, gap);

@@ -156,12 +156,15 @@ class ActiveSet {
 
   /// The deepest slave node behind a master facet at displacements u,
   /// active or not, by the activation search's rules (far side, slave
-  /// normal, surface border); depth 0 and node −1 if none.
-  [[nodiscard]] Penetration max_penetration(const Eigen::VectorXd& u);
+  /// normal, surface border; given the step's start displacements u_n,
+  /// also a facet beyond the border entered through in the step, as the
+  /// step's own search and its reported StepContactStats do); depth 0 and
+  /// node −1 if none.
+  [[nodiscard]] Penetration max_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n = nullptr);
   /// The smallest and largest gap of the active slaves at displacements u,
   /// each measured on the master surface as max_penetration does (on its
   /// constraint's facet if that search finds none).
-  [[nodiscard]] ActiveGaps active_gaps(const Eigen::VectorXd& u);
+  [[nodiscard]] ActiveGaps active_gaps(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n = nullptr);
 
  private:
   bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats);
