@@ -21,7 +21,7 @@ struct ProgressPoint {
 
 /// Steps an invocation still has to take after `taken` of its own, the
 /// last of which reached `time` [s]: to the end time `end` [s] at the
-/// current step size `dt` [s] (a last step may overshoot), but at most
+/// current step size `dt` [s] (the last one may be shorter), but at most
 /// `max_steps` − `taken`; at least 1 unless `last`, 0 if `last`. Saturates
 /// at 2^62 instead of overflowing (a step size far below end/2^62).
 std::int64_t steps_left(double time, double end, double dt, std::int64_t taken, std::int64_t max_steps, bool last);

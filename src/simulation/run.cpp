@@ -31,8 +31,8 @@ std::int64_t step_count(const io::TimeSpec& t) {
   return static_cast<std::int64_t>(std::abs(n - std::round(n)) < 1e-9 * n ? std::round(n) : std::ceil(n));
 }
 
-/// True once `state` has reached the end time (the last step may overshoot
-/// it, as with a fixed Δt that does not divide the end time).
+/// True once `state` has reached the end time (the stepper ends the last
+/// step there; within 1e-6 Δt counts as reached).
 bool finished(const io::TimeSpec& t, const model::State& state) { return state.time >= t.end - 1e-6 * t.step; }
 
 template <int D>
