@@ -53,12 +53,15 @@ Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
   for (int n = 0; n < model.num_nodes(); ++n) g.segment<D>(n * D) = model.gravity;
   gravity_force_ = mass_times(g);
   stiffness_scale_.setZero(model.num_dofs());
+  displacement_stiffness_.setZero(model.num_dofs());
   for (int c = 0; c < model.num_cells(); ++c) {
     const auto& geometry = model.geometry[c];
     const double modulus = lame(c).lambda + 2.0 * lame(c).mu;
-    for (int a = 0; a <= D; ++a)
-      stiffness_scale_.segment<D>(model.cells(a, c) * D).array() +=
-          geometry.volume * modulus * geometry.grad.col(a).norm();
+    for (int a = 0; a <= D; ++a) {
+      const double grad = geometry.grad.col(a).norm();
+      stiffness_scale_.segment<D>(model.cells(a, c) * D).array() += geometry.volume * modulus * grad;
+      displacement_stiffness_.segment<D>(model.cells(a, c) * D).array() += geometry.volume * modulus * grad * grad;
+    }
   }
 }
 
@@ -74,10 +77,12 @@ Eigen::VectorXd Assembler<D>::mass_times(const Eigen::VectorXd& x) const {
 
 template <int D>
 fem::NodeMatrix<D> Assembler<D>::cell_positions(int cell, const Eigen::VectorXd& u) const {
+  const int first = model_.cells(0, cell);
   fem::NodeMatrix<D> x;
-  for (int a = 0; a <= D; ++a) {
+  x.col(0).setZero();
+  for (int a = 1; a <= D; ++a) {
     const int node = model_.cells(a, cell);
-    x.col(a) = model_.X.col(node) + u.segment<D>(node * D);
+    x.col(a) = (model_.X.col(node) - model_.X.col(first)) + (u.segment<D>(node * D) - u.segment<D>(first * D));
   }
   return x;
 }

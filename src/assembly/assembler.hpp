@@ -64,6 +64,12 @@ class Assembler {
   /// with an absolute error of round-off ε, so ε times this bounds the
   /// round-off of the internal force however small the strains.
   [[nodiscard]] const Eigen::VectorXd& stiffness_scale() const { return stiffness_scale_; }
+  /// Per dof, Σ_cells V (λ + 2μ) |∇N_A|² [N/m]: the internal force of a
+  /// unit displacement of the node. A displacement u is stored to ε|u|
+  /// (each Newton update rounds it there), which moves F by ε|u| |∇N|:
+  /// ε|u| times this bounds that part of the round-off, which grows with
+  /// how far a stiff body has travelled.
+  [[nodiscard]] const Eigen::VectorXd& displacement_stiffness() const { return displacement_stiffness_; }
 
   /// Internal force and K = ∂f/∂u_{n+1}; K must have the pattern's layout.
   void internal_force_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
@@ -81,7 +87,13 @@ class Assembler {
   /// Stored energy W(u) = Σ_cells V ρ0Ψ [J].
   [[nodiscard]] double strain_energy(const Eigen::VectorXd& u) const;
 
-  /// Current positions of a cell's nodes.
+  /// Current positions of a cell's nodes relative to its first node,
+  /// x_A − x_0 = (X_A − X_0) + (u_A − u_0): a translation of the positions,
+  /// which the kernels (F, E, S, W, σ) do not see. Formed from differences,
+  /// they carry the round-off ε|x_A − x_0| of an edge, not ε|x| of where the
+  /// body lies: F = Σ x_A ⊗ ∇N_A from absolute positions errs by ε|x|/h,
+  /// which on a stiff body far from the origin puts the Newton residual
+  /// (K ε|x|) above any tolerance.
   [[nodiscard]] fem::NodeMatrix<D> cell_positions(int cell, const Eigen::VectorXd& u) const;
 
  private:
@@ -102,6 +114,7 @@ class Assembler {
   SparseMatrix node_mass_;  ///< M_AB, nodes × nodes
   Eigen::VectorXd gravity_force_;
   Eigen::VectorXd stiffness_scale_;
+  Eigen::VectorXd displacement_stiffness_;
 };
 
 }  // namespace conserve::assembly

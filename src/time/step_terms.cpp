@@ -40,7 +40,8 @@ void InternalForce<D>::begin(const model::State& start, double) {
 template <int D>
 void InternalForce<D>::add_value(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g, Eigen::VectorXd& magnitude) {
   assembler_.add_internal_force(cells_n_, u_np1, scheme_, g, &magnitude);
-  magnitude += assembler_.stiffness_scale();  // the round-off of E at small strains
+  // The round-off of E at small strains, and that of u itself (ε|u|).
+  magnitude += assembler_.stiffness_scale() + assembler_.displacement_stiffness().cwiseProduct(u_np1.cwiseAbs());
 }
 
 template <int D>
