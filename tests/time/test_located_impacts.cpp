@@ -49,15 +49,14 @@ Measured run_and_measure(const std::string& toml) {
   Measured m;
   const double L_ref = d0.linear.norm();
   double E_ref = std::abs(d0.total);
+  const double step = run.scenario.time.step;
+  const auto at_end = [&] { return run.state.time >= run.scenario.time.end - 1e-9 * step; };
   double t = run.state.time;
-  while (run.state.time < run.scenario.time.end - 1e-9 * run.scenario.time.step) {
+  while (!at_end()) {
     run.step();
     const double dt = run.state.time - t;
     t = run.state.time;
-    const bool last_step = run.state.time >= run.scenario.time.end - 1e-9 * run.scenario.time.step;
-    if (run.last.contact.splits == 0 && !last_step &&
-        std::abs(dt - run.scenario.time.step) > 1e-9 * run.scenario.time.step)
-      ++m.odd_steps;
+    if (run.last.contact.splits == 0 && !at_end() && std::abs(dt - step) > 1e-9 * step) ++m.odd_steps;
     m.shortest = std::min(m.shortest, dt);
     m.longest = std::max(m.longest, dt);
     ++m.steps;
