@@ -56,6 +56,7 @@ NewtonSpec parse_newton(const Section& s) {
   NewtonSpec newton;
   newton.max_iterations = s.integer("max_iterations");
   newton.residual_tolerance = s.number("residual_tolerance");
+  newton.predictor = s.string("predictor") == "velocity" ? PredictorKind::velocity : PredictorKind::rigid;
   return newton;
 }
 

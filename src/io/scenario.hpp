@@ -18,6 +18,7 @@ enum class StressScheme {
 
 enum class MassKind { consistent, lumped };
 enum class ContactScheme { paper, persistent };
+enum class PredictorKind { velocity, rigid };
 
 struct MaterialSpec {
   double young = 0.0;    ///< Young's modulus E [Pa], > 0
@@ -110,6 +111,9 @@ struct NewtonSpec {
   /// converged when |r| ≤ residual_tolerance · (reference force of the
   /// step), or at |r|'s round-off floor (solver/newton.hpp)
   double residual_tolerance = 1e-12;
+  /// Newton's start: rigid (each free body's rigid motion) or velocity
+  /// (u_n + Δt V_n); both add ½Δt² g (time/predictor.hpp)
+  PredictorKind predictor = PredictorKind::rigid;
 };
 
 /// [solver]: the linear solver of the Newton systems (solver/linear_solver.hpp).

@@ -95,6 +95,15 @@ SectionSpec newton_section() {
                       "load and elastic force norms at its start), or when |r| is at its round-off floor (ε times "
                       "the forces it sums) and that floor is at most 1e-6 of the reference force (else the step fails: the model is too stiff for double precision at this Δt); a small "
                       "increment alone never ends the iteration"},
+              {.name = "predictor",
+               .type = KeyType::choice,
+               .default_value = "rigid",
+               .choices = {"rigid", "velocity"},
+               .doc = "where each step's iteration starts: `rigid`, each free body moved by the rigid part of its "
+                      "velocity (its centre-of-mass velocity and spin, fitted with the lumped masses; bodies with a "
+                      "prescribed component keep their velocity), or `velocity`, u_n + Δt V_n; both add ½Δt² g. "
+                      "The solution does not depend on it; the iterations do: at steps far above a body's "
+                      "vibration periods the step all but reverses the vibration, which `velocity` carries forward"},
           },
           .retired = {{"increment_tolerance",
                        "removed: Newton converges on the residual only (see residual_tolerance); delete the key"},

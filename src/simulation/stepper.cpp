@@ -45,6 +45,8 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
                                                          linear_settings(scenario.solver))),
       control_{.dt = scenario.time.step} {
   integrator_->set_persistent_contact(scenario.active_set.scheme == io::ContactScheme::persistent);
+  integrator_->set_predictor(scenario.newton.predictor == io::PredictorKind::rigid ? time::Predictor::rigid
+                                                                                   : time::Predictor::velocity);
   contacts_->locate_impacts(scenario.active_set.locate_impacts ? scenario.active_set.gap_tolerance : 0.0);
 }
 

@@ -41,6 +41,16 @@ void Integrator<D>::set_persistent_contact(bool on) {
 }
 
 template <int D>
+void Integrator<D>::set_predictor(Predictor predictor) {
+  if (predictor == Predictor::rigid) {
+    const Eigen::VectorXd row_sums = assembler_.mass_times(Eigen::VectorXd::Ones(assembler_.model().num_dofs()));
+    rigid_.emplace(assembler_.model(), row_sums(Eigen::seq(0, Eigen::last, D)));
+  } else {
+    rigid_.reset();
+  }
+}
+
+template <int D>
 solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   const double t_np1 = state.time + dt;
   Eigen::VectorXd u_np1 = predictor(state, dt);
@@ -124,13 +134,21 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
 // flight under gravity, f_int = 0) is u_{n+1} = u_n + Δt V_n + ½Δt² g:
 // M⁻¹ of the gravity force is g at every dof, consistent mass or lumped.
 // Predicting with it leaves the elastic part of the step to Newton, so a
-// body in flight starts at a residual of its vibration alone. Internal
-// and contact forces are left out of the prediction: extrapolating them
-// overshoots modes with ωΔt ≫ 1 and carries an impact's reversal into the
-// next step (bench/README.md, "predictors").
+// body in flight starts at a residual of its vibration alone; the rigid
+// predictor also leaves out the vibration's velocity (time/predictor.hpp).
+// Internal and contact forces are left out of the prediction:
+// extrapolating them overshoots modes with ωΔt ≫ 1 and carries an
+// impact's reversal into the next step (bench/README.md, "Predictors").
 template <int D>
 Eigen::VectorXd Integrator<D>::predictor(const model::State& state, double dt) const {
-  Eigen::VectorXd u = state.u + dt * state.v;
+  Eigen::VectorXd u;
+  if (rigid_) {
+    Eigen::VectorXd v = state.v;
+    rigid_->project(state.u, v);
+    u = state.u + dt * v;
+  } else {
+    u = state.u + dt * state.v;
+  }
   const Vec<D> drop = (0.5 * dt * dt) * assembler_.model().gravity;
   if (drop.squaredNorm() > 0.0)
     for (Eigen::Index n = 0; n < u.size() / D; ++n) u.segment<D>(n * D) += drop;

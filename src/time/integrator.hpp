@@ -13,6 +13,7 @@
 #include "contact/tangent_reduction.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
+#include "time/predictor.hpp"
 #include "time/step_terms.hpp"
 
 namespace conserve::time {
@@ -27,7 +28,7 @@ class Integrator {
              contact::ActiveSet<D>* contacts = nullptr, int max_passes = 10,
              const solver::LinearSolverSettings& linear = {});
 
-  /// Advances `state` by `dt` [s]: predictor u_n + Δt V_n + ½Δt² g with prescribed
+  /// Advances `state` by `dt` [s]: the predictor (set_predictor) with prescribed
   /// values at t_{n+1} and the active constraints enforced, Newton on the
   /// reduced system, the active-set update and, if the set changed, the same
   /// step again (ALGORITHM.md §7); then V_{n+1} = (2/Δt)Δu − V_n (19).
@@ -56,6 +57,9 @@ class Integrator {
   /// mid-point velocity (19) alone, as in the paper.
   void set_persistent_contact(bool on);
 
+  /// Newton's start for each step (time/predictor.hpp); `velocity` until set.
+  void set_predictor(Predictor predictor);
+
   /// What the active set did in the last step.
   [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
   [[nodiscard]] const solver::LinearSolver& linear_solver() const { return *solver_; }
@@ -74,6 +78,7 @@ class Integrator {
   std::shared_ptr<contact::TangentReduction<D>> reduction_ = std::make_shared<contact::TangentReduction<D>>();
   int max_passes_;
   std::optional<contact::PersistentVelocity<D>> persistent_;
+  std::optional<RigidMotion<D>> rigid_;  ///< set: Predictor::rigid
   std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;
   solver::Timings timings_;
