@@ -53,8 +53,8 @@ void RigidMotion<D>::project(const Eigen::VectorXd& u, Eigen::VectorXd& v) const
     }
     Vec3 omega = Vec3::Zero();
     if constexpr (D == 3)
-      omega = inertia.ldlt().solve(spin);
-    else
+      omega = inertia.ldlt().solve(spin);  // LDLT leaves a zero pivot's component at 0
+    else if (inertia(2, 2) > 0.0)
       omega.z() = spin.z() / inertia(2, 2);
     for (int n = first; n < last; ++n) v.segment<D>(n * D) = (v_c + omega.cross(position(n) - c)).template head<D>();
   }

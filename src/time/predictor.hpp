@@ -30,8 +30,9 @@ enum class Predictor {
 template <int D>
 class RigidMotion {
  public:
-  /// `node_mass`: the lumped mass per node [kg] (the row sums of the
-  /// consistent mass give the same momenta).
+  /// `node_mass`: the lumped mass per node [kg], the row sums of the
+  /// mass matrix (with a consistent mass the fit keeps the body's exact
+  /// linear momentum and a lumped approximation of its angular one).
   RigidMotion(const model::Model<D>& model, Eigen::VectorXd node_mass);
 
   /// Replaces V on each free body by its rigid part.
