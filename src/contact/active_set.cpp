@@ -57,6 +57,9 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
   for (Constraint<D>& c : active_) {
     c.start_force = c.normal_force;
     sum += c.normal_force;
+    // A slave held behind its facet (a step under (48) ended it there) is
+    // pushed out in this step, as at its activation (make_constraint).
+    if (c.kind == Kind::frictionless && c.gap < 0.0 && count_[c.slave] == 1) c.gap = 0.0, c.push = true;
   }
   start_mean_force_ = active_.empty() ? 0.0 : sum / static_cast<double>(active_.size());
 }
@@ -155,6 +158,8 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
     c.rate = false;
     ++stats.rate_steps;
   }
+  for (Constraint<D>& c : active_)
+    if (c.push) c.push = false, ++stats.pushes;
   return SetChange::none;
 }
 
@@ -375,7 +380,19 @@ Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, c
   c.normal = mid.normal;
   c.tangents = mid.tangents;
   c.gap = start.gap;
-  if (c.kind == Kind::frictionless && start.gap < 0.0 && -start.gap <= push_out(c, x_n, x_np1)) c.gap = 0.0;
+  // Behind: pushed out to γ = 0, at zero work if the step's other
+  // non-rigid motion can carry it, else by the paper's force (push), whose
+  // work the velocity update after the step takes back. The second
+  // constraint of a slave on two surfaces has no such force (its pair's
+  // forces are always the zero-work ones): it keeps its start gap.
+  if (c.kind == Kind::frictionless && start.gap < 0.0) {
+    if (-start.gap <= push_out(c, x_n, x_np1)) {
+      c.gap = 0.0;
+    } else if (count_[s] == 0) {
+      c.gap = 0.0;
+      c.push = true;
+    }
+  }
   c.activated_step = step_;
   return c;
 }

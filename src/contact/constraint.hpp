@@ -56,6 +56,14 @@ struct Constraint {
   /// becomes the slave's end gap and the flag is cleared
   /// (ActiveSet::update).
   bool rate = false;
+  /// Frictionless, in its first step: the slave started behind its facet
+  /// further than the step's other non-rigid motion can carry it out at
+  /// zero work (ActiveSet::push_out), and is pushed out to γ = 0 by the
+  /// paper's normal force a (no zero-work correction). That force does
+  /// work, which the velocity update after the step takes back out of the
+  /// bodies' deformation (PersistentVelocity::restore_energy), so E, L and
+  /// J are kept. Cleared when the step is taken (ActiveSet::update).
+  bool push = false;
   /// The step the slave was activated in (its first step in contact).
   std::int64_t activated_step = 0;
   /// f_N = g_s·n_{n+½} at the last update of the active set [N], and at

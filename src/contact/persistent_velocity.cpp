@@ -133,6 +133,34 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   return out;
 }
 
+template <int D>
+bool PersistentVelocity<D>::restore_energy(const Positions<D>& x, double energy, Eigen::VectorXd& v) const {
+  if (energy == 0.0) return true;
+  const Eigen::Index ndof = v.size();
+  Eigen::VectorXd inv_mass(ndof), v_free = v;
+  for (Eigen::Index d = 0; d < ndof; ++d) {
+    const bool fixed = prescribed_[d] || !(lumped_[d] > 0.0);
+    inv_mass[d] = fixed ? 0.0 : 1.0 / lumped_[d];
+    if (fixed) v_free[d] = 0.0;
+  }
+  // w = V_f − M_L⁻¹ M R β with Rᵀ M w = 0: G β = Rᵀ M V_f.
+  const Eigen::MatrixXd R = rigid_modes(x);
+  const Eigen::MatrixXd MR = mass_ * R;
+  const Eigen::MatrixXd LMR = inv_mass.asDiagonal() * MR;
+  const Eigen::MatrixXd G = MR.transpose() * LMR;
+  const Eigen::VectorXd beta = G.ldlt().solve(MR.transpose() * v_free);
+  const Eigen::VectorXd w = v_free - LMR * beta;
+  if (!w.allFinite()) return false;
+  const Eigen::VectorXd Mv = mass_ * v, Mw = mass_ * w;
+  const double b = w.dot(Mv), k = w.dot(Mw), dK = -energy;
+  const double disc = b * b + 2.0 * k * dK;  // K + t b + ½ t² k = K − energy
+  if (!(k > 0.0) || !(b > 0.0) || !(disc >= 0.0)) return false;
+  const double t = 2.0 * dK / (b + std::sqrt(disc));
+  if (!(std::abs(t) <= kMaxScale)) return false;
+  v += t * w;
+  return true;
+}
+
 template class PersistentVelocity<2>;
 template class PersistentVelocity<3>;
 

@@ -52,6 +52,14 @@ class PersistentVelocity {
   VelocityUpdate apply(const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
                        const Positions<D>& x, Eigen::VectorXd& v) const;
 
+  /// Takes `energy` [J] out of the kinetic energy of `v` (gives it back if
+  /// negative) by the step-2 change V = V + t w of the file comment
+  /// without constraints: w is V with the prescribed dofs zeroed, minus its
+  /// projection on the rigid motions (Rᵀ M w = 0), so L and J are kept and
+  /// only the bodies' deformation velocity is scaled. False, `v`
+  /// unchanged, if that motion cannot take it (|t| > 1/4).
+  bool restore_energy(const Positions<D>& x, double energy, Eigen::VectorXd& v) const;
+
  private:
   /// Rigid velocity fields at positions x, one per column: translations,
   /// then rotations about the centroid.

@@ -140,14 +140,18 @@ Eigen::Matrix<S, D, K> non_rigid_part(const Eigen::Matrix<S, D, K>& y, const Eig
 /// position differences they would lose ε|x| to cancellation, which the
 /// small denominator w·w would amplify), with the facet's mid-point
 /// projection `mid` (ξ_{n+½}, n_{n+½}, τ_{n+½}).
+/// With `zero_work` false the paper's gradient a itself (a pushed-out
+/// slave, Constraint::push).
 template <int D, class S>
-Nodes<D, S> frictionless_direction(const Nodes<D, S>& x, const Nodes<D, S>& dx, Plane<D, S>& mid) {
+Nodes<D, S> frictionless_direction(const Nodes<D, S>& x, const Nodes<D, S>& dx, Plane<D, S>& mid,
+                                   bool zero_work = true) {
   const Nodes<D, S> y = x - S(0.5) * dx;
   mid = project_on_plane<D, S>(y.col(0), y.template rightCols<D>());
   const V<D, S> N = shape<D, S>(mid.xi);
   Nodes<D, S> a;
   a.col(0) = mid.normal;
   for (int b = 0; b < D; ++b) a.col(b + 1) = -N(b) * mid.normal;
+  if (!zero_work) return a;
   const Nodes<D, S> w = non_rigid_part<D, D + 1, S>(y, dx);
   const S ww = w.squaredNorm();
   if (!(ww > 0.0)) return a;  // a rigid motion: a·Δx = 0 already
@@ -172,9 +176,9 @@ struct TestColumns {
 };
 
 template <int D, class S>
-TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx) {
+TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx, bool zero_work = true) {
   Plane<D, S> mid;
-  const Nodes<D, S> abar = frictionless_direction<D, S>(x, dx, mid);
+  const Nodes<D, S> abar = frictionless_direction<D, S>(x, dx, mid, zero_work);
   const V<D, S> as = abar.col(0);
   const S as2 = as.squaredNorm();
 

@@ -30,6 +30,7 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
       solver_(solver::make_linear_solver(linear, assembler.model().num_dofs())) {
   solver_->set_timings(&timings_);
   solver_->set_coordinates(assembler.model().X);
+  if (contacts_) restorer_.emplace(assembler.model(), assembler.mass());
 }
 
 template <int D>
@@ -59,6 +60,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   for (const auto& term : terms_) term->begin(state, dt);
   if (contacts_) contacts_->begin_step(state.step + 1, dt, state.v);
   solver::NewtonReport total;
+  double push_work = 0.0;  // the work of pushed-out slaves' forces in the step [J]
   for (bool again = true; again;) {
     // The elimination works on the active set's constraints: the updates
     // of the solve move their facets, ξ, n and τ there.
@@ -110,6 +112,14 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
       return total;
     }
     again = change == contact::SetChange::changed;
+    if (!again && stats_.pushes > 0) {
+      // The step's energy error E_{n+1} − E_n is Δu·g over the free dofs
+      // (the zero-work forces contribute nothing, Newton's leftover its
+      // round-off): here the push-outs' work.
+      Eigen::VectorXd g = problem.full_residual();
+      mask_.apply(g);
+      push_work = (u_np1 - state.u).dot(g);
+    }
     if (again && stats_.passes >= max_passes_)
       throw SolverError(fmt::format(
           "the contact active set did not settle in step {} (t = {:.6g} s) after {} passes "
@@ -118,6 +128,16 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   }
   check_orientation(u_np1, state.step + 1, t_np1);
   state.v = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
+  if (push_work != 0.0) {
+    solver::ScopedTimer timer(timings_.elimination);
+    const auto& X = assembler_.model().X;
+    const contact::Positions<D> x = X + u_np1.reshaped(D, X.cols());
+    if (!restorer_->restore_energy(x, push_work, state.v))
+      throw SolverError(fmt::format(
+          "step {} (t = {:.6g} s): the work of pushing {} slave(s) out from behind their facets ({:.3g} J) is "
+          "more than the bodies' deformation velocity can give back",
+          state.step + 1, t_np1, stats_.pushes, push_work));
+  }
   if (persistent_ && contacts_ && !contacts_->constraints().empty()) {
     solver::ScopedTimer timer(timings_.elimination);
     const auto& X = assembler_.model().X;

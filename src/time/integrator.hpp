@@ -78,6 +78,9 @@ class Integrator {
   std::shared_ptr<contact::TangentReduction<D>> reduction_ = std::make_shared<contact::TangentReduction<D>>();
   int max_passes_;
   std::optional<contact::PersistentVelocity<D>> persistent_;
+  /// Takes the work of pushed-out slaves' forces back (Constraint::push);
+  /// set when there are contacts.
+  std::optional<contact::PersistentVelocity<D>> restorer_;
   std::optional<RigidMotion<D>> rigid_;  ///< set: Predictor::rigid
   std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;

@@ -1,6 +1,8 @@
 // Newton's start (time/predictor.hpp): the rigid part of a body's velocity,
 // and what starting from it buys on a vibrating body at a step far above
-// its periods. The step's solution must not depend on the start.
+// its periods. The step's solution must not depend on the start. Also the
+// energy give-back of a push-out (PersistentVelocity::restore_energy),
+// which scales the same bodies' non-rigid velocity.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <random>
 #include <string>
 
+#include "contact/persistent_velocity.hpp"
 #include "core/error.hpp"
 #include "support/contact_run.hpp"
 #include "time/predictor.hpp"
@@ -173,6 +176,58 @@ TEST(RigidMotion, StartsAVibratingBodyCloserToItsStep) {
   EXPECT_LT(apart, 1e-8 * speed);
   EXPECT_LT(it_rigid, it_velocity);
 }
+
+// The work of a pushed-out slave's force is taken out of the bodies'
+// deformation velocity (Constraint::push): K falls by exactly that work,
+// L and J (Σ_A x_A × (M V)_A, the consistent mass) are untouched, and an
+// amount above what the deformation velocity can give is refused with V
+// left as it was.
+template <int D>
+void check_restore_energy() {
+  test::ContactRun<D> run(two_bodies(D));
+  const auto& model = run.problem.model;
+  const SparseMatrix& M = run.assembler->mass();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const Eigen::VectorXd u = Eigen::VectorXd::NullaryExpr(model.num_dofs(), [&] { return 0.01 * uniform(rng); });
+  Eigen::VectorXd v = Eigen::VectorXd::NullaryExpr(model.num_dofs(), [&] { return 0.2 * uniform(rng); });
+  const Vec3 omega = D == 3 ? Vec3(3.0, -2.0, 5.0) : Vec3(0.0, 0.0, 5.0);
+  for (const auto& body : model.bodies) add_rigid<D>(model, body, u, Vec3(1.0, 2.0, 0.0), omega, v);
+  const contact::Positions<D> x = model.X + u.reshaped(D, model.num_nodes());
+  auto moments = [&](const Eigen::VectorXd& w) {
+    const Eigen::VectorXd p = M * w;
+    Vec3 L = Vec3::Zero(), J = Vec3::Zero();
+    for (int n = 0; n < model.num_nodes(); ++n) {
+      Vec3 xn = Vec3::Zero(), pn = Vec3::Zero();
+      xn.head<D>() = x.col(n);
+      pn.head<D>() = p.segment<D>(n * D);
+      L += pn;
+      J += xn.cross(pn);
+    }
+    return std::pair{L, J};
+  };
+  const double K = 0.5 * v.dot(M * v);
+  const auto [L0, J0] = moments(v);
+  const contact::PersistentVelocity<D> restorer(model, M);
+  for (double work : {1e-5 * K, -1e-5 * K}) {  // K_def ≈ 1e-3 K here
+    Eigen::VectorXd w = v;
+    ASSERT_TRUE(restorer.restore_energy(x, work, w));
+    const auto [L, J] = moments(w);
+    std::printf("[ measured ] restore_energy %dD, work %+.3e J: K error %.2e, |ΔL| %.2e, |ΔJ| %.2e, |ΔV| %.2e\n", D,
+                work, std::abs(0.5 * w.dot(M * w) - (K - work)) / K, (L - L0).norm(), (J - J0).norm(),
+                (w - v).norm());
+    EXPECT_LT(std::abs(0.5 * w.dot(M * w) - (K - work)), 1e-14 * K);
+    EXPECT_LT((L - L0).norm(), 1e-13 * L0.norm());
+    EXPECT_LT((J - J0).norm(), 1e-13 * (J0.norm() + L0.norm()));
+    EXPECT_GT((w - v).norm(), 1e-4 * v.norm());  // guard: V did change
+  }
+  Eigen::VectorXd w = v;
+  EXPECT_FALSE(restorer.restore_energy(x, K, w));  // more than the deformation velocity carries
+  EXPECT_EQ(w, v);
+}
+
+TEST(PersistentVelocity, RestoreEnergyKeepsMomenta2d) { check_restore_energy<2>(); }
+TEST(PersistentVelocity, RestoreEnergyKeepsMomenta3d) { check_restore_energy<3>(); }
 
 }  // namespace
 }  // namespace conserve::time
