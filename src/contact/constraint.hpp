@@ -56,9 +56,10 @@ struct Constraint {
   /// becomes the slave's end gap and the flag is cleared
   /// (ActiveSet::update).
   bool rate = false;
-  /// Frictionless, in its first step: the slave started behind its facet
-  /// further than the step's other non-rigid motion can carry it out at
-  /// zero work (ActiveSet::push_out), and is pushed out to γ = 0 by the
+  /// Frictionless, for one step: the slave starts it behind its facet
+  /// (activated there further than the step's other non-rigid motion can
+  /// carry it out at zero work, ActiveSet::push_out, or left there by a
+  /// step under (48), ActiveSet::begin_step), and is pushed out to γ = 0 by the
   /// paper's normal force a (no zero-work correction). That force does
   /// work, which the velocity update after the step takes back out of the
   /// bodies' deformation (PersistentVelocity::restore_energy), so E, L and

@@ -127,17 +127,18 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
           state.step + 1, t_np1, stats_.passes, stats_.activations, stats_.releases));
   }
   check_orientation(u_np1, state.step + 1, t_np1);
-  state.v = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
+  Eigen::VectorXd v_np1 = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
   if (push_work != 0.0) {
     solver::ScopedTimer timer(timings_.elimination);
     const auto& X = assembler_.model().X;
     const contact::Positions<D> x = X + u_np1.reshaped(D, X.cols());
-    if (!restorer_->restore_energy(x, push_work, state.v))
+    if (!restorer_->restore_energy(x, push_work, v_np1))  // the state is left at the step's start
       throw SolverError(fmt::format(
           "step {} (t = {:.6g} s): the work of pushing {} slave(s) out from behind their facets ({:.3g} J) is "
           "more than the bodies' deformation velocity can give back",
           state.step + 1, t_np1, stats_.pushes, push_work));
   }
+  state.v = std::move(v_np1);
   if (persistent_ && contacts_ && !contacts_->constraints().empty()) {
     solver::ScopedTimer timer(timings_.elimination);
     const auto& X = assembler_.model().X;
