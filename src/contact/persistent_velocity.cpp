@@ -2,6 +2,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <cmath>
+#include <optional>
 
 #include "contact/search.hpp"
 
@@ -14,6 +15,16 @@ namespace {
 /// without being distorted, and V* is kept for the step.
 constexpr double kMaxScale = 0.25;
 
+/// The root t nearest 0 of K + t b + ½ t² k = K + dK (b = wᵀMV, k = wᵀMw),
+/// none if there is no real one or |t| > kMaxScale.
+std::optional<double> energy_scale(double b, double k, double dK) {
+  const double disc = b * b + 2.0 * k * dK;
+  if (!(k > 0.0) || !(b > 0.0) || !(disc >= 0.0)) return std::nullopt;
+  const double t = 2.0 * dK / (b + std::sqrt(disc));
+  if (!(std::abs(t) <= kMaxScale)) return std::nullopt;
+  return t;
+}
+
 }  // namespace
 
 template <int D>
@@ -22,6 +33,14 @@ PersistentVelocity<D>::PersistentVelocity(const model::Model<D>& model, const Sp
   for (int k = 0; k < mass.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(mass, k); it; ++it) lumped_[it.row()] += it.value();
   for (int d : model.prescribed.dofs) prescribed_[d] = 1;
+}
+
+template <int D>
+Eigen::VectorXd PersistentVelocity<D>::free_inverse_mass() const {
+  Eigen::VectorXd inv_mass(lumped_.size());
+  for (Eigen::Index d = 0; d < inv_mass.size(); ++d)
+    inv_mass[d] = prescribed_[d] || !(lumped_[d] > 0.0) ? 0.0 : 1.0 / lumped_[d];
+  return inv_mass;
 }
 
 template <int D>
@@ -81,8 +100,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   // of L and J. With S = A M_L⁻¹ Aᵀ (sparse, factorized once here),
   // E = A M_L⁻¹ M R and G = Rᵀ M M_L⁻¹ M R, the 6 (2D: 3) β follow from a
   // small Schur complement.
-  Eigen::VectorXd inv_mass(ndof);
-  for (Eigen::Index d = 0; d < ndof; ++d) inv_mass[d] = prescribed_[d] || !(lumped_[d] > 0.0) ? 0.0 : 1.0 / lumped_[d];
+  const Eigen::VectorXd inv_mass = free_inverse_mass();
   const SparseMatrix B = A * inv_mass.cwiseSqrt().asDiagonal();
   const SparseMatrix S = B * B.transpose();
   Eigen::SimplicialLDLT<SparseMatrix> ldlt(S);
@@ -122,12 +140,10 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
 
   const Eigen::VectorXd Mv = mass_ * v, Mvp = mass_ * v_p, Mw = mass_ * w;
   const double K_star = 0.5 * v.dot(Mv), K_p = 0.5 * v_p.dot(Mvp);
-  const double b = w.dot(Mvp), k = w.dot(Mw), dK = K_star - K_p;
-  const double disc = b * b + 2.0 * k * dK;
-  if (!(k > 0.0) || !(b > 0.0) || !(disc >= 0.0)) return out;
-  const double t = 2.0 * dK / (b + std::sqrt(disc));  // K_p + t b + ½ t² k = K*
-  if (!(std::abs(t) <= kMaxScale)) return out;
-  v = v_p + t * w;
+  const double dK = K_star - K_p;
+  const std::optional<double> t = energy_scale(w.dot(Mvp), w.dot(Mw), dK);  // K(V_p + t w) = K*
+  if (!t) return out;
+  v = v_p + *t * w;
   out.applied = true;
   out.energy_moved = dK;
   return out;
@@ -136,13 +152,8 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
 template <int D>
 bool PersistentVelocity<D>::restore_energy(const Positions<D>& x, double energy, Eigen::VectorXd& v) const {
   if (energy == 0.0) return true;
-  const Eigen::Index ndof = v.size();
-  Eigen::VectorXd inv_mass(ndof), v_free = v;
-  for (Eigen::Index d = 0; d < ndof; ++d) {
-    const bool fixed = prescribed_[d] || !(lumped_[d] > 0.0);
-    inv_mass[d] = fixed ? 0.0 : 1.0 / lumped_[d];
-    if (fixed) v_free[d] = 0.0;
-  }
+  const Eigen::VectorXd inv_mass = free_inverse_mass();
+  const Eigen::VectorXd v_free = (inv_mass.array() > 0.0).select(v, 0.0);
   // w = V_f − M_L⁻¹ M R β with Rᵀ M w = 0: G β = Rᵀ M V_f.
   const Eigen::MatrixXd R = rigid_modes(x);
   const Eigen::MatrixXd MR = mass_ * R;
@@ -151,13 +162,9 @@ bool PersistentVelocity<D>::restore_energy(const Positions<D>& x, double energy,
   const Eigen::VectorXd beta = G.ldlt().solve(MR.transpose() * v_free);
   const Eigen::VectorXd w = v_free - LMR * beta;
   if (!w.allFinite()) return false;
-  const Eigen::VectorXd Mv = mass_ * v, Mw = mass_ * w;
-  const double b = w.dot(Mv), k = w.dot(Mw), dK = -energy;
-  const double disc = b * b + 2.0 * k * dK;  // K + t b + ½ t² k = K − energy
-  if (!(k > 0.0) || !(b > 0.0) || !(disc >= 0.0)) return false;
-  const double t = 2.0 * dK / (b + std::sqrt(disc));
-  if (!(std::abs(t) <= kMaxScale)) return false;
-  v += t * w;
+  const std::optional<double> t = energy_scale(w.dot(mass_ * v), w.dot(mass_ * w), -energy);  // K(V + t w) = K − W
+  if (!t) return false;
+  v += *t * w;
   return true;
 }
 

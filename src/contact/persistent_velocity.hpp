@@ -61,6 +61,8 @@ class PersistentVelocity {
   bool restore_energy(const Positions<D>& x, double energy, Eigen::VectorXd& v) const;
 
  private:
+  /// Per dof: 1 / the lumped mass, 0 on prescribed and massless dofs.
+  [[nodiscard]] Eigen::VectorXd free_inverse_mass() const;
   /// Rigid velocity fields at positions x, one per column: translations,
   /// then rotations about the centroid.
   [[nodiscard]] Eigen::MatrixXd rigid_modes(const Positions<D>& x) const;
