@@ -57,7 +57,8 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
   for (Constraint<D>& c : active_) {
     c.start_force = c.normal_force;
     sum += c.normal_force;
-    // A slave held behind its facet (a step under (48) ended it there) is
+    // A slave held behind its facet (the second constraint of a slave on
+    // two surfaces keeps its start gap; its first has been released) is
     // pushed out in this step, as at its activation (make_constraint).
     if (c.kind == Kind::frictionless && c.gap < 0.0 && count_[c.slave] == 1) c.gap = 0.0, c.push = true;
   }
@@ -151,10 +152,24 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
   const SetChange activated = activate_penetrating(x_n, x_np1, stats);
   if (activated == SetChange::split) return activated;
   if (released || activated == SetChange::changed) return SetChange::changed;
-  // The step is taken: a slave that held (48) in it holds its end gap from now on.
-  for (Constraint<D>& c : active_) {
+  // A slave that held (48) and ends the step behind its facet is pushed
+  // out in this step instead, as one left behind at its start is
+  // (begin_step): the step is solved again with it held at γ = 0.
+  std::vector<double> end_gap(active_.size(), 0.0);
+  bool pushed = false;
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    Constraint<D>& c = active_[k];
     if (!c.rate) continue;
-    c.gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_np1)).gap;
+    end_gap[k] = project<D>(x_np1.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_np1)).gap;
+    if (end_gap[k] < 0.0 && c.kind == Kind::frictionless && count_[c.slave] == 1)
+      c.rate = false, c.gap = 0.0, c.push = pushed = true;
+  }
+  if (pushed) return SetChange::changed;
+  // The step is taken: a slave that held (48) in it holds its end gap from now on.
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    Constraint<D>& c = active_[k];
+    if (!c.rate) continue;
+    c.gap = end_gap[k];
     c.rate = false;
     ++stats.rate_steps;
   }

@@ -45,10 +45,12 @@ struct StepContactStats {
   /// Frictionless constraints that held the paper's rate condition (48)
   /// instead of their gap in the step (Constraint::rate).
   int rate_steps = 0;
-  /// Frictionless slaves activated behind their facet and pushed out by
-  /// the paper's force in the step (Constraint::push); the integrator
-  /// takes the work of that force back out of the velocities.
+  /// Frictionless slaves pushed out from behind their facet by the
+  /// paper's force in the step (Constraint::push), and the work of that
+  /// force [J], which the integrator takes back out of the bodies'
+  /// deformation velocity (PersistentVelocity::restore_energy).
   int pushes = 0;
+  double push_work = 0.0;
   double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   /// At the end of the step: the deepest slave behind a master facet,
   /// active or not (0 if none), and the extreme gaps of the active slaves

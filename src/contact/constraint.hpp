@@ -53,13 +53,15 @@ struct Constraint {
   /// because the zero-work direction of the held gap turned away from the
   /// normal (Elimination::enforce, kRateCosine). Under (48) a·Δx = 0, so
   /// the force is the paper's normal one. When the step is taken, γ
-  /// becomes the slave's end gap and the flag is cleared
-  /// (ActiveSet::update).
+  /// becomes the slave's end gap and the flag is cleared; an end gap
+  /// behind the facet makes it a push-out instead, and the step is solved
+  /// again (ActiveSet::update).
   bool rate = false;
   /// Frictionless, for one step: the slave starts it behind its facet
   /// (activated there further than the step's other non-rigid motion can
-  /// carry it out at zero work, ActiveSet::push_out, or left there by a
-  /// step under (48), ActiveSet::begin_step), and is pushed out to γ = 0 by the
+  /// carry it out at zero work, ActiveSet::push_out; held behind as a
+  /// slave's second constraint, ActiveSet::begin_step; or about to be left
+  /// there by (48), ActiveSet::update), and is pushed out to γ = 0 by the
   /// paper's normal force a (no zero-work correction). That force does
   /// work, which the velocity update after the step takes back out of the
   /// bodies' deformation (PersistentVelocity::restore_energy), so E, L and

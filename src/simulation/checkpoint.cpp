@@ -21,8 +21,9 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// one hash. 3: the constraints' activation step and normal force. 4: the
 /// end of a step cut short at an impact. 5: the count of constraint-steps
 /// under the rate condition (48) in the run's totals. 6: no end of a cut
-/// step (the steps after one go on at the full Δt).
-constexpr std::uint32_t kVersion = 6;
+/// step (the steps after one go on at the full Δt). 7: the push-outs and
+/// their work in the run's totals.
+constexpr std::uint32_t kVersion = 7;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -137,6 +138,8 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(static_cast<std::int64_t>(t.splits));
   w.value(static_cast<std::int64_t>(t.split_passes));
   w.value(static_cast<std::int64_t>(t.rate_steps));
+  w.value(static_cast<std::int64_t>(t.pushes));
+  w.value(t.push_work);
   w.value(t.max_activation_gap);
   for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
                    t.min_det_F})
@@ -158,6 +161,8 @@ RunTotals read_totals(Reader& r) {
   t.splits = r.value<std::int64_t>();
   t.split_passes = r.value<std::int64_t>();
   t.rate_steps = r.value<std::int64_t>();
+  t.pushes = r.value<std::int64_t>();
+  t.push_work = r.value<double>();
   t.max_activation_gap = r.value<double>();
   for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
                     &t.max_penetration, &t.min_det_F})
@@ -209,6 +214,8 @@ void RunTotals::add(const contact::StepContactStats& c) {
   splits += c.splits;
   split_passes += c.split_passes;
   rate_steps += c.rate_steps;
+  pushes += c.pushes;
+  push_work += c.push_work;
   max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
   max_penetration = std::max(max_penetration, c.max_penetration);
   if (!std::isnan(c.min_active_gap)) {

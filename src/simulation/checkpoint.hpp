@@ -34,6 +34,8 @@ struct RunTotals {
   std::int64_t splits = 0;           ///< attempts given up to end a step at an impact
   std::int64_t split_passes = 0;     ///< solves of those attempts
   std::int64_t rate_steps = 0;       ///< constraint-steps under the rate condition (48) (contact::Constraint::rate)
+  std::int64_t pushes = 0;           ///< slaves pushed out from behind their facets (contact::Constraint::push)
+  double push_work = 0.0;            ///< the push-outs' work taken back out of the velocities [J]
   double max_activation_gap = 0.0;
   /// Extremes over the steps: gaps of the active slaves (NaN while none
   /// was ever active) and the deepest penetration [m]; smallest det F.

@@ -154,6 +154,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.splits = totals.splits;
   summary.split_passes = totals.split_passes;
   summary.rate_steps = totals.rate_steps;
+  summary.pushes = totals.pushes;
+  summary.push_work = totals.push_work;
   summary.min_active_gap = totals.min_active_gap;
   summary.max_active_gap = totals.max_active_gap;
   summary.max_penetration = totals.max_penetration;

@@ -40,6 +40,8 @@ Json figures(const RunSummary& s, int unknowns) {
               {"impact_splits", s.splits},
               {"impact_split_passes", s.split_passes},
               {"rate_steps", s.rate_steps},
+              {"pushes", s.pushes},
+              {"push_work", s.push_work},
               {"max_activation_gap", s.max_activation_gap},
               {"seconds",
                {{"assembly", t.assembly},

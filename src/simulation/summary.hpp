@@ -34,6 +34,8 @@ struct RunSummary {
   std::int64_t splits = 0;          ///< attempts of steps given up to end them at an impact
   std::int64_t split_passes = 0;    ///< solves of those attempts (beyond the steps' own)
   std::int64_t rate_steps = 0;      ///< constraint-steps under the rate condition (48) (contact::Constraint::rate)
+  std::int64_t pushes = 0;          ///< slaves pushed out from behind their facets (contact::Constraint::push)
+  double push_work = 0.0;           ///< the push-outs' work taken back out of the velocities [J]
   double min_active_gap = 0.0;      ///< smallest gap of an active slave at a step's end [m] (NaN: none)
   double max_active_gap = 0.0;      ///< largest gap of an active slave at a step's end [m] (NaN: none)
   double max_penetration = 0.0;     ///< deepest slave behind its master at a step's end [m]

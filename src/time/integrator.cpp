@@ -138,6 +138,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
           "more than the bodies' deformation velocity can give back",
           state.step + 1, t_np1, stats_.pushes, push_work));
   }
+  stats_.push_work = push_work;
   state.v = std::move(v_np1);
   if (persistent_ && contacts_ && !contacts_->constraints().empty()) {
     solver::ScopedTimer timer(timings_.elimination);

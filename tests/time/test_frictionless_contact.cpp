@@ -257,13 +257,15 @@ TEST(FrictionlessContact, ThreeCylindersPassTheirMomentumAlong) {
 // border facet from step 10 to the end of the run (FAILED the `behind`
 // bound below until 2026-11-25). Now such a slave is pushed out by the
 // paper's force and the velocity update takes that force's work back
-// (Constraint::push, docs/theory.md).
+// (Constraint::push, docs/theory.md). A step under (48) could still end
+// with its slave behind (6.9e-5 m at the end of step 47: FAILED the bound,
+// then taken over every step, until the step after 132ce9e); such a step
+// is now solved again with the slave pushed out (ActiveSet::update).
 struct HollowCylinders {
   double energy = 0.0, linear_x = 0.0;
   int rate_steps = 0;  ///< constraints that held (48) for a step instead of their gap
   int pushes = 0;      ///< slaves pushed out by the paper's force, their work taken back
-  /// The deepest active slave behind its facet at the end of a step in
-  /// which no constraint held (48) (those end where (48) left them) [m].
+  /// The deepest active slave behind its facet at the end of a step [m].
   double behind = 0.0;
   int stats_mismatches = 0;  ///< steps whose reported end geometry differs from a search of their end
   double deepest = 0.0;      ///< deepest penetration reported [m]
@@ -285,10 +287,10 @@ HollowCylinders run_hollow_cylinders(const std::string& scenario, int steps) {
     const auto& stats = run.integrator->contact_stats();
     r.rate_steps += stats.rate_steps;
     r.pushes += stats.pushes;
-    if (stats.rate_steps == 0 && stats.min_active_gap < 0.0) r.behind = std::max(r.behind, -stats.min_active_gap);
+    if (stats.min_active_gap < 0.0) r.behind = std::max(r.behind, -stats.min_active_gap);
   }
   std::printf("[ measured ] two hollow cylinders, %d steps: drift E %.2e, L_x %.2e; %d constraint-steps under (48); "
-              "%d push-outs; deepest active slave behind its facet after a step without (48) %.2e m; deepest "
+              "%d push-outs; deepest active slave behind its facet at a step's end %.2e m; deepest "
               "penetration %.2e m, %d steps whose reported end geometry differs from a search of it\n",
               steps, r.energy, r.linear_x, r.rate_steps, r.pushes, r.behind, r.deepest, r.stats_mismatches);
   return r;
