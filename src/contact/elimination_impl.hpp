@@ -1,3 +1,8 @@
+// The definitions of Elimination<D>, included by elimination_2d.cpp and
+// elimination_3d.cpp only: each instantiates one dimension, so the two
+// halves of its automatic-differentiation code compile side by side.
+#pragma once
+
 #include "contact/elimination.hpp"
 
 #include <fmt/format.h>
@@ -638,8 +643,5 @@ void Elimination<D>::update(const Eigen::VectorXd& q, Eigen::VectorXd& u) {
   for (std::size_t c = 0; c < slaves_.size(); ++c) u.template segment<D>(slaves_[c] * D) = u_s[c];
   enforce(u);
 }
-
-template class Elimination<2>;
-template class Elimination<3>;
 
 }  // namespace conserve::contact

@@ -1,0 +1,7 @@
+#include "contact/elimination_impl.hpp"
+
+namespace conserve::contact {
+
+template class Elimination<2>;
+
+}  // namespace conserve::contact

@@ -1,0 +1,7 @@
+#include "contact/elimination_impl.hpp"
+
+namespace conserve::contact {
+
+template class Elimination<3>;
+
+}  // namespace conserve::contact
