@@ -6,7 +6,8 @@
 # The preset compiles with -O2 -g1 (line tables: all a report needs): with
 # full -g the automatic-differentiation code of src/contact/elimination.cpp
 # (now split in elimination_2d.cpp and _3d.cpp) took 14 min to compile under
-# ASan + UBSan on one core, 7 min with -g1.
+# ASan + UBSan on one core, 7 min with -g1. UBSan leaves out the checks ASan
+# makes too or that sit on every Eigen access (CMakeLists.txt).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh  # the compiler the probe below needs

@@ -259,7 +259,7 @@ TEST(FrictionlessContact, ThreeCylindersPassTheirMomentumAlong) {
 // paper's force and the velocity update takes that force's work back
 // (Constraint::push, docs/theory.md). A step under (48) could still end
 // with its slave behind (6.9e-5 m at the end of step 47: FAILED the bound,
-// then taken over every step, until the step after 132ce9e); such a step
+// then taken over every step, until d5b66d2); such a step
 // is now solved again with the slave pushed out (ActiveSet::update).
 struct HollowCylinders {
   double energy = 0.0, linear_x = 0.0;
