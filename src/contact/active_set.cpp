@@ -84,36 +84,25 @@ Positions<D> ActiveSet<D>::positions(const Eigen::VectorXd& u) const {
   return model_.X + u.reshaped(D, model_.num_nodes());
 }
 
-/// A match counts for activation if its projection lies inside the facet
-/// or leaves it only across edges shared with another facet of the surface
-/// (a convex corner); a point beyond the surface's border (by more than
-/// `tol`, isoparametric) is not in contact.
-template <int D>
-bool within_surface(const ContactSurface& surface, const Match<D>& m, double tol) {
-  if (m.projection.inside(tol)) return true;
-  const Vec<D> N = facet_shape<D>(m.projection.xi);
-  for (int k = 0; k < D; ++k)
-    if (N(k) < -tol && surface.facet_neighbours(k, m.facet) < 0) return false;
-  return true;
-}
-
-/// Whether slave s, behind facet `end.facet` at the end of the step but
-/// beyond the surface's border there, entered through the surface: it was
-/// not behind that facet's plane at the start of the step (x_n), and the
-/// point where its straight path crossed the plane (ξ interpolated
-/// linearly at the gap's zero) lies within the surface. A slave level with
+/// Whether slave s, behind facet `end.facet` at the end of the step (x)
+/// but beyond the surface's border there, entered through the surface: it
+/// was not behind that facet's plane at the start of the step (x_n), and
+/// the point where its straight path crossed the plane (ξ interpolated
+/// linearly at the gap's zero) lies over the surface. A slave level with
 /// the border (the bottom rims of two rings standing on one plane) has its
 /// projection pushed beyond a tilted border facet by any penetration, and
 /// would sink unseen; one passing beside the master crosses the plane
 /// beyond the border and is left alone.
 template <int D>
-bool entered_through(const ContactPair<D>& pair, int s, const Match<D>& end, const Positions<D>& x_n) {
+bool entered_through(const ContactPair<D>& pair, int s, const Match<D>& end, const Positions<D>& x_n,
+                     const Positions<D>& x) {
   const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pair.master, end.facet, x_n));
   if (!(start.gap >= 0.0) || !(end.projection.gap < start.gap)) return false;
   const double at = start.gap / (start.gap - end.projection.gap);
-  Match<D> crossing = end;
-  crossing.projection.xi = start.xi + at * (end.projection.xi - start.xi);
-  return within_surface<D>(pair.master, crossing, pair.search.border_tolerance);
+  const FacetNodes<D> facet = facet_nodes<D>(pair.master, end.facet, x);
+  const Vec<D> crossing = facet * facet_shape<D>(start.xi + at * (end.projection.xi - start.xi));
+  return over_surface<D>(crossing, Match<D>{end.facet, project<D>(crossing, facet)}, pair.master, x,
+                         pair.search.border_tolerance);
 }
 
 template <int D>
@@ -122,8 +111,8 @@ std::optional<Match<D>> ActiveSet<D>::search(const ContactPair<D>& pair, std::si
   const int s = pair.slave.nodes[i];
   const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal);
   if (!match) return std::nullopt;
-  if (within_surface<D>(pair.master, *match, pair.search.border_tolerance)) return match;
-  if (x_n && entered_through<D>(pair, s, *match, *x_n)) return match;
+  if (over_surface<D>(x.col(s), *match, pair.master, x, pair.search.border_tolerance)) return match;
+  if (x_n && entered_through<D>(pair, s, *match, *x_n, x)) return match;
   return std::nullopt;
 }
 

@@ -190,7 +190,8 @@ class ActiveSet {
   /// slave's normal motion relative to the facet (make_constraint).
   [[nodiscard]] double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) const;
   /// The master facet slave `pair.slave.nodes[i]` is behind or in front of
-  /// at positions x (the tree refitted to x), within the surface; given the
+  /// at positions x (the tree refitted to x), over the surface
+  /// (over_surface(): not beyond its border); given the
   /// step's start x_n, also a facet beyond the border that the slave
   /// entered through the surface in the step (entered_through).
   [[nodiscard]] std::optional<Match<D>> search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,

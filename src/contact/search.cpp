@@ -107,6 +107,31 @@ Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface
   return walk.projection.inside(inside_tolerance) ? walk : here;
 }
 
+// Leaving a facet across an edge it shares is not enough: a point beyond
+// a border vertex leaves the facets that touch the border only there
+// across shared edges. So walk, as follow() does, across the edges the
+// projection leaves by: the point is over the surface if the walk comes to
+// a facet it projects inside or back to one it has seen (it circles a
+// convex edge or vertex), and beyond it if the walk leaves a facet across
+// the border.
+template <int D>
+bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& surface, const Positions<D>& x,
+                  double tol) {
+  Match<D> walk = m;
+  std::vector<int> visited{m.facet};
+  for (int step = 0; step < surface.num_facets(); ++step) {
+    if (walk.projection.inside(tol)) return true;
+    const Vec<D> N = facet_shape<D>(walk.projection.xi);
+    for (int k = 0; k < D; ++k)
+      if (N(k) < -tol && surface.facet_neighbours(k, walk.facet) < 0) return false;
+    const int next = surface.facet_neighbours(exit_side<D>(walk.projection.xi), walk.facet);
+    if (std::find(visited.begin(), visited.end(), next) != visited.end()) return true;
+    visited.push_back(next);
+    walk = Match<D>{next, project<D>(x_s, facet_nodes<D>(surface, next, x))};
+  }
+  return true;
+}
+
 template <int D>
 std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<D>& x) {
   std::vector<Vec<D>> normals(surface.nodes.size(), Vec<D>::Zero());
@@ -131,6 +156,8 @@ std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<
                                                   const Positions<D>&, const SearchSettings&,                      \
                                                   const std::optional<Vec<D>>&);                                   \
   template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double); \
+  template bool over_surface<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&,      \
+                                double);                                                                           \
   template std::vector<Vec<D>> node_normals<D>(const ContactSurface&, const Positions<D>&);
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)

@@ -50,6 +50,14 @@ std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& sur
                                     const Positions<D>& x, const SearchSettings& settings,
                                     const std::optional<Vec<D>>& slave_normal = std::nullopt);
 
+/// Whether x_s, matched to `m` by find_master (surface at positions x),
+/// lies over the surface: its projection is inside the facet up to `tol`
+/// (isoparametric), or it leaves the facet only toward other facets of the
+/// surface (a convex edge or vertex) and not beyond the surface's border.
+template <int D>
+bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& surface, const Positions<D>& x,
+                  double tol);
+
 /// Re-projects x_s on its current facet; if the projection has left the
 /// facet and lands inside a neighbouring facet (across the edge it left by),
 /// moves there (repeatedly, bounded by the number of facets); otherwise keeps

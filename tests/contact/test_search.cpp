@@ -276,6 +276,68 @@ TEST(Search, FollowStopsAtTheEndOfASegmentChain) {
   EXPECT_FALSE(end.projection.inside());
 }
 
+/// The outer surface of a ring of the paper's §6.2 (one facet high, with
+/// a row of nodes at mid-height).
+Scene<3> ring() {
+  return {mesh::generate_mesh("hollow_cylinder",
+                              {{"inner_radius", 0.07}, {"outer_radius", 0.1}, {"length", 0.005}, {"size", 0.01}}),
+          "outer"};
+}
+
+/// Of points round the ring at height z, `depth` inside the outer radius,
+/// how many find_master matches and how many of those over_surface() keeps.
+std::pair<int, int> matched_and_over(const Scene<3>& ring, double z, double depth) {
+  const double pi = std::acos(-1.0);
+  int matched = 0, over = 0;
+  for (int i = 0; i < 200; ++i) {
+    const double angle = 2 * pi * (i + 0.37) / 200;
+    const Vec<3> x_s((0.1 - depth) * std::cos(angle), (0.1 - depth) * std::sin(angle), z);
+    const auto m = ring.find(x_s, settings_with(0.05));
+    if (!m) continue;
+    ++matched;
+    if (over_surface<3>(x_s, *m, ring.surface, ring.model.X, 1e-3)) ++over;
+  }
+  return {matched, over};
+}
+
+TEST(Search, OverTheSurfaceNotBeyondItsBorder) {
+  const Scene<3> outer = ring();
+  // A point 10 mm beyond a rim vertex along the axis, 2 mm inside the
+  // outer radius, is beyond the surface's border, on every facet at that
+  // vertex: seen accepted on a facet whose two edges at the vertex are
+  // shared with other facets (§6.2: the rim slaves of the lifted ring,
+  // matched 5.5 mm "behind" such a facet).
+  int tried = 0, over = 0, interior = 0;
+  for (int f = 0; f < outer.surface.num_facets(); ++f) {
+    const FacetNodes<3> x = facet_nodes<3>(outer.surface, f, outer.model.X);
+    for (int a = 0; a < 3; ++a) {
+      const Vec<3> v = x.col(a);
+      if (std::abs(std::abs(v.z()) - 0.0025) > 1e-12) continue;
+      const Vec<3> radial(v.x(), v.y(), 0.0);
+      const Vec<3> x_s = v + Vec<3>(0, 0, std::copysign(0.01, v.z())) - 0.02 * radial;
+      ++tried;
+      bool all_shared = true;
+      for (int k = 0; k < 3; ++k)
+        if (k != a && outer.surface.facet_neighbours(k, f) < 0) all_shared = false;
+      interior += all_shared;
+      if (over_surface<3>(x_s, Match<3>{f, project<3>(x_s, x)}, outer.surface, outer.model.X, 1e-3)) ++over;
+    }
+  }
+  EXPECT_GT(interior, 10);
+  EXPECT_GT(tried, 100);
+  EXPECT_EQ(over, 0);
+  // Found 10 mm above or below the rims: not over it either.
+  EXPECT_EQ(matched_and_over(outer, 0.0125, 0.002), std::make_pair(200, 0));
+  EXPECT_EQ(matched_and_over(outer, -0.0125, 0.002), std::make_pair(200, 0));
+  // At mid-height, behind the surface (inside its facets) or in front of
+  // its convex vertical edges, and level with a rim within the border
+  // tolerance: over it.
+  EXPECT_EQ(matched_and_over(outer, 0.0, 0.002), std::make_pair(200, 200));
+  EXPECT_EQ(matched_and_over(outer, 0.0, -0.002), std::make_pair(200, 200));
+  EXPECT_EQ(matched_and_over(outer, 0.0025 + 1e-6, 1e-5), std::make_pair(200, 200));
+  EXPECT_EQ(matched_and_over(outer, -0.0025 - 1e-6, 1e-5), std::make_pair(200, 200));
+}
+
 TEST(Search, NodeNormalsAreUnitAndOutward) {
   const Scene<3> box(test::box_mesh(2, 2, 2, 1.0, 1.0, 1.0), "boundary");
   const auto n = node_normals<3>(box.surface, box.model.X);
