@@ -190,10 +190,10 @@ class ActiveSet {
   /// slave's normal motion relative to the facet (make_constraint).
   [[nodiscard]] double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) const;
   /// The master facet slave `pair.slave.nodes[i]` is behind or in front of
-  /// at positions x (the tree refitted to x), over the surface
-  /// (over_surface(): not beyond its border); given the
-  /// step's start x_n, also a facet beyond the border that the slave
-  /// entered through the surface in the step (entered_through).
+  /// at positions x (the tree refitted to x), if the slave is over the
+  /// surface (over_surface()); given the step's start x_n, also a facet
+  /// beyond the border that the slave entered through the surface in the
+  /// step (entered_through).
   [[nodiscard]] std::optional<Match<D>> search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
                                                const Vec<D>& slave_normal, const Positions<D>* x_n = nullptr) const;
   /// Calls visit(pair, i, slave node, match) for every slave that is not

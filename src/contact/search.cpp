@@ -150,14 +150,13 @@ std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<
   return normals;
 }
 
-#define CONSERVE_INSTANTIATE(D)                                                                                    \
-  template FacetNodes<D> facet_nodes<D>(const ContactSurface&, int, const Positions<D>&);                          \
-  template std::optional<Match<D>> find_master<D>(const Vec<D>&, const ContactSurface&, const FacetTree<D>&,       \
-                                                  const Positions<D>&, const SearchSettings&,                      \
-                                                  const std::optional<Vec<D>>&);                                   \
-  template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double); \
-  template bool over_surface<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&,      \
-                                double);                                                                           \
+#define CONSERVE_INSTANTIATE(D)                                                                                      \
+  template FacetNodes<D> facet_nodes<D>(const ContactSurface&, int, const Positions<D>&);                            \
+  template std::optional<Match<D>> find_master<D>(const Vec<D>&, const ContactSurface&, const FacetTree<D>&,         \
+                                                  const Positions<D>&, const SearchSettings&,                        \
+                                                  const std::optional<Vec<D>>&);                                     \
+  template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double);   \
+  template bool over_surface<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double); \
   template std::vector<Vec<D>> node_normals<D>(const ContactSurface&, const Positions<D>&);
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)

@@ -52,8 +52,10 @@ std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& sur
 
 /// Whether x_s, matched to `m` by find_master (surface at positions x),
 /// lies over the surface: its projection is inside the facet up to `tol`
-/// (isoparametric), or it leaves the facet only toward other facets of the
-/// surface (a convex edge or vertex) and not beyond the surface's border.
+/// (isoparametric), or a walk across the edges it leaves by (as follow()
+/// walks) reaches a facet it projects inside or circles a convex edge or
+/// vertex, without leaving a facet across the surface's border by more
+/// than `tol`.
 template <int D>
 bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& surface, const Positions<D>& x,
                   double tol);

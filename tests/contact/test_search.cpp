@@ -1,5 +1,6 @@
 // Narrow phase: find_master on faces, edges, vertices and far sides, the
-// slave-normal filter, follow() across facets and at borders, node normals.
+// slave-normal filter, follow() across facets and at borders,
+// over_surface() at a border, node normals.
 #include <gtest/gtest.h>
 
 #include <cmath>
