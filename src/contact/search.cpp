@@ -117,6 +117,7 @@ Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface
 template <int D>
 bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& surface, const Positions<D>& x,
                   double tol) {
+  if (m.projection.inside(tol)) return true;  // most matches: no walk, no allocation
   Match<D> walk = m;
   std::vector<int> visited{m.facet};
   for (int step = 0; step < surface.num_facets(); ++step) {
