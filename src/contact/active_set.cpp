@@ -48,6 +48,30 @@ bool ActiveSet<D>::can_hold(int p, int s, const Vec<D>& normal) const {
 }
 
 template <int D>
+std::optional<Constraint<D>> ActiveSet<D>::activation(int p, std::size_t i, int s, const Match<D>& match,
+                                                      const Positions<D>& x_n, const Positions<D>& x_np1) const {
+  if (!(match.projection.gap < -pairs_[p].search.penetration_tolerance)) return std::nullopt;
+  if (active_in_[p][i]) return crease(p, s, match, x_n, x_np1);
+  if (!can_hold(p, s, match.projection.normal)) return std::nullopt;
+  return make_constraint(p, s, match, x_n, x_np1);
+}
+
+template <int D>
+std::optional<Constraint<D>> ActiveSet<D>::crease(int p, int s, const Match<D>& end, const Positions<D>& x_n,
+                                                  const Positions<D>& x_np1) const {
+  if (count_[s] != 1 || first_pair_[s] != p || pairs_[p].kind != Kind::frictionless) return std::nullopt;
+  const auto held = std::find_if(active_.begin(), active_.end(), [s](const Constraint<D>& c) { return c.slave == s; });
+  if (held == active_.end() || held->facet == end.facet || held->push || held->rate) return std::nullopt;
+  const auto& facets = pairs_[p].master.facets;
+  bool shared = false;
+  for (int a = 0; a < D; ++a)
+    for (int b = 0; b < D; ++b) shared = shared || facets(a, end.facet) == held->master[b];
+  const double cosine = held->normal.dot(end.projection.normal);
+  if (!shared || !(cosine > 0.0) || 1.0 - cosine * cosine < kCreaseSine * kCreaseSine) return std::nullopt;
+  return make_constraint(p, s, end, x_n, x_np1);
+}
+
+template <int D>
 void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorXd& v_n) {
   if (!gap_tolerance_.empty()) dt_ = dt, v_n_ = v_n;
   std::fill(released_.begin(), released_.end(), 0);
@@ -224,11 +248,12 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
   if (gap_tolerance_.empty() || !allow_splits_) return 1.0;
   const Positions<D> x_n = positions(u_n), x = positions(u);
   double fraction = 1.0;
-  for_each_match(x, [&](int p, std::size_t i, int s, const Match<D>& match) {
-    if (!active_in_[p][i] && match.projection.gap < -pairs_[p].search.penetration_tolerance &&
-        can_hold(p, s, match.projection.normal))
-      fraction = std::min(fraction, split_at(make_constraint(p, s, match, x_n, x), match, x_n));
-  }, &x_n);
+  for_each_match(
+      x,
+      [&](int p, std::size_t i, int s, const Match<D>& match) {
+        if (const auto c = activation(p, i, s, match, x_n, x)) fraction = std::min(fraction, split_at(*c, match, x_n));
+      },
+      &x_n);
   return fraction;
 }
 
@@ -318,14 +343,12 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   double deepest = 0.0, min_gap = inf, max_gap = -inf;
   for_each_match(x_np1, [&](int p, std::size_t i, int s, const Match<D>& match) {
     deepest = std::max(deepest, -match.projection.gap);
-    if (active_in_[p][i]) {
-      active_gap[p][i] = match.projection.gap;
-    } else if (match.projection.gap < -pairs_[p].search.penetration_tolerance &&
-               can_hold(p, s, match.projection.normal)) {
-      const Constraint<D> c = make_constraint(p, s, match, x_n, x_np1);
-      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(c, match, x_n));
-      mark(c);  // a node on two slave surfaces: a second one only if can_hold()
-      activated.push_back(c);
+    if (active_in_[p][i]) active_gap[p][i] = match.projection.gap;
+    if (const auto c = activation(p, i, s, match, x_n, x_np1)) {
+      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(*c, match, x_n));
+      if (active_in_[p][i]) ++stats.creases;
+      mark(*c);  // a node on two slave surfaces or at a crease: a third is refused
+      activated.push_back(*c);
     }
   }, &x_n);
   for (const Constraint<D>& c : active_) {

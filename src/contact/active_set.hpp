@@ -12,6 +12,7 @@
 /// start further out than its tolerance is not activated: the step is
 /// split at its crossing instead (update() returns SetChange::split).
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "contact/constraint.hpp"
@@ -51,6 +52,10 @@ struct StepContactStats {
   /// deformation velocity (PersistentVelocity::restore_energy).
   int pushes = 0;
   double push_work = 0.0;
+  /// Second constraints given to slaves held on one facet and found
+  /// behind a neighbouring facet of the same master surface at the end of
+  /// a solve (crease pairs, ActiveSet::crease); also counted in activations.
+  int creases = 0;
   double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   /// At the end of the step: the deepest slave behind a master facet,
   /// active or not (0 if none), and the extreme gaps of the active slaves
@@ -60,9 +65,10 @@ struct StepContactStats {
   double max_active_gap = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// Two constraints on one slave node whose facet normals are closer to
-/// parallel than this (|n₁·n₂|) are not held together: the second is not
-/// activated (the two gaps would fix the slave's motion badly).
+/// Two constraints of different pairs on one slave node whose facet
+/// normals are closer to parallel than this (|n₁·n₂|) are not held
+/// together: the second is not activated (the two gaps would fix the
+/// slave's motion badly).
 inline constexpr double kParallelCosine = 0.9;
 
 /// The push-out a frictionless slave found behind its facet may be given
@@ -208,6 +214,24 @@ class ActiveSet {
   /// (|n·n′| < kParallelCosine) and p is frictionless too; then it holds
   /// both (a node on two slave surfaces, contact/elimination.hpp).
   [[nodiscard]] bool can_hold(int p, int s, const Vec<D>& normal) const;
+  /// The constraint slave `pair.slave.nodes[i]` (node s) of pair p takes
+  /// for its match at the end of a solve (positions x_np1, the step from
+  /// x_n), if any: a slave found behind a facet further than the
+  /// penetration tolerance is activated if it holds no constraint of p
+  /// (and can_hold() allows it), or given a crease pair (crease()).
+  [[nodiscard]] std::optional<Constraint<D>> activation(int p, std::size_t i, int s, const Match<D>& match,
+                                                        const Positions<D>& x_n, const Positions<D>& x_np1) const;
+  /// The second constraint of a crease pair: slave s holds one
+  /// frictionless constraint, of pair p, on one facet (neither pushed out
+  /// nor under (48)), and is found behind another facet `end` of the same
+  /// master surface that shares a node with the first and whose normal is
+  /// on the same side and not within kCreaseSine of parallel. A slave
+  /// pressed into a crease the master folds concave under it has no
+  /// single facet that keeps it in front of both (docs/theory.md, "Two
+  /// constraints on one slave"); it holds both, as a node on two slave
+  /// surfaces does.
+  [[nodiscard]] std::optional<Constraint<D>> crease(int p, int s, const Match<D>& end, const Positions<D>& x_n,
+                                                    const Positions<D>& x_np1) const;
   /// Records constraint c in the per-node and per-pair flags.
   void mark(const Constraint<D>& c);
   /// The flags anew from active_.

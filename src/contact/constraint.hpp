@@ -16,6 +16,16 @@ enum class Kind {
   stick,         ///< (35)–(46): the slave moves with a frozen point of the master facet
 };
 
+/// A crease pair (two constraints of one pair on a slave, on two facets
+/// that share a node and fold concave under it: ActiveSet::crease) is
+/// formed, and its facets switched (Elimination::place_pair), only while
+/// the sine of the angle between their normals is at least this: nearer
+/// coplanar facets leave a slave behind the second by less than this
+/// fraction of its distance past their common edge, and the Gram system
+/// of the two normals, whose determinant is the sine squared, would
+/// amplify round-off by more than 1e6.
+inline constexpr double kCreaseSine = 1e-3;
+
 /// A slave surface against a master surface.
 template <int D>
 struct ContactPair {

@@ -20,7 +20,9 @@
 /// slave (a chain) is expanded by substitution in both maps (V is then
 /// taken to first order through the chained rows); a cycle is refused.
 /// A node on two slave surfaces may hold two frictionless constraints (of
-/// two pairs, with facet normals n_1, n_2 not parallel): it keeps one slip
+/// two pairs, with facet normals n_1, n_2 not parallel), and so may a
+/// slave at a crease of one master surface (two facets that share a node,
+/// ActiveSet::crease): it keeps one slip
 /// (3D: along n_1 × n_2; 2D: none), Δx_s = C [n_1ᵀ N_1 Δx_m1; n_2ᵀ N_2 Δx_m2]
 /// + (n_1 × n_2) Δξ with C = [n_1 n_2] G⁻¹, G = the normals' Gram matrix, so
 /// both gaps are held, and its residual is split between the two
@@ -123,7 +125,8 @@ class Elimination {
   };
 
   /// The constraints of one eliminated slave node: one, or two
-  /// frictionless ones of different pairs.
+  /// frictionless ones on two facets (of different pairs, or a crease
+  /// pair of one).
   struct Group {
     int slave = -1;
     int count = 0;
@@ -161,7 +164,9 @@ class Elimination {
   /// Constraint k on `facet` at the mid-point positions: its master nodes, ξ, n, τ.
   void set_mid_point(Constraint<D>& k, int facet, const Positions<D>& x_mid) const;
   void place_frictionless(Constraint<D>& k, Positions<D>& x, Positions<D>& x_mid, int& switches) const;
-  /// Both constraints' gaps held at once (one Gram solve per pass).
+  /// Both constraints' gaps held at once (one Gram solve per pass); the
+  /// two facets of a crease pair are kept apart (never one, nor two within
+  /// kCreaseSine of coplanar).
   void place_pair(const Group& g, Positions<D>& x, Positions<D>& x_mid);
   [[nodiscard]] SparseMatrix assemble(const std::vector<BlockRow<D>>& rows) const;
   [[nodiscard]] SlaveRows<D> slave_rows() const { return {slave_of_, slaves_, trial_rows_, test_rows_}; }

@@ -173,9 +173,10 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
   return l;
 }
 
-// A slave node holds one constraint, or two frictionless ones of
-// different pairs whose facets are not parallel (the active set's rule,
-// ActiveSet::can_hold); anything else is refused.
+// A slave node holds one constraint, or two frictionless ones: of
+// different pairs whose facets are not parallel, or of one pair on two
+// facets (a crease pair) (the active set's rules, ActiveSet::can_hold,
+// ActiveSet::crease); anything else is refused.
 template <int D>
 void Elimination<D>::make_groups() {
   groups_.clear();
@@ -190,10 +191,11 @@ void Elimination<D>::make_groups() {
     }
     Group& group = groups_[g];
     const Constraint<D>& first = (*constraints_)[group.constraint[0]];
-    if (group.count == 2 || k.kind != Kind::frictionless || first.kind != Kind::frictionless || k.pair == first.pair)
+    if (group.count == 2 || k.kind != Kind::frictionless || first.kind != Kind::frictionless ||
+        (k.pair == first.pair && k.facet == first.facet))
       throw SolverError(fmt::format(
-          "node {} is the slave of {} active contact constraints (at most two, frictionless, of different pairs)",
-          k.slave, group.count + 1));
+          "node {} is the slave of {} active contact constraints (at most two, frictionless, on two facets)", k.slave,
+          group.count + 1));
     group.constraint[1] = static_cast<int>(c);
     group.count = 2;
   }
@@ -528,19 +530,31 @@ void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Posit
 
 // Both gaps at once: the slave moves by −C e, e the two gaps' errors and
 // C = [n_1 n_2] G⁻¹, the least move that holds both (exact for flat
-// facets); the facets are settled as for one constraint.
+// facets); the facets are settled as for one constraint, except that the
+// two of a crease pair (one master surface) never meet on one facet or on
+// two within kCreaseSine of coplanar, where G is singular: such a
+// constraint keeps its facet, its plane extended.
 template <int D>
 void Elimination<D>::place_pair(const Group& g, Positions<D>& x, Positions<D>& x_mid) {
   std::array<Constraint<D>*, 2> k{&(*constraints_)[g.constraint[0]], &(*constraints_)[g.constraint[1]]};
   Vec<D> xs = x.col(g.slave);
   std::array<int, 2> facet{k[0]->facet, k[1]->facet};
+  const bool crease = k[0]->pair == k[1]->pair;
+  const ContactSurface& master = (*pairs_)[k[0]->pair].master;
   for (int pass = 0; pass < 4; ++pass) {
     Eigen::Matrix<double, D, 2> n;
     Eigen::Vector2d e;
     bool same = true;
     std::array<int, 2> next{};
     for (int j = 0; j < 2; ++j) {
-      const Match<D> best = settle(*k[j], xs, facet[j], x, switches_[g.constraint[j]]);
+      Match<D> best = settle(*k[j], xs, facet[j], x, switches_[g.constraint[j]]);
+      if (crease && best.facet != facet[j]) {
+        const int other = j == 0 ? facet[1] : next[0];
+        const Vec<D> m = facet_normal<D>(facet_nodes<D>(master, other, x));
+        const double cosine = best.projection.normal.dot(m);
+        if (best.facet == other || 1.0 - cosine * cosine < kCreaseSine * kCreaseSine)
+          best = Match<D>{facet[j], project<D>(xs, facet_nodes<D>(master, facet[j], x))};
+      }
       n.col(j) = best.projection.normal;
       e(j) = best.projection.gap - k[j]->gap;
       next[j] = best.facet;

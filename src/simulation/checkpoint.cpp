@@ -23,7 +23,7 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// under the rate condition (48) in the run's totals. 6: no end of a cut
 /// step (the steps after one go on at the full Δt). 7: the push-outs and
 /// their work in the run's totals.
-constexpr std::uint32_t kVersion = 7;
+constexpr std::uint32_t kVersion = 8;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -139,6 +139,7 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(static_cast<std::int64_t>(t.split_passes));
   w.value(static_cast<std::int64_t>(t.rate_steps));
   w.value(static_cast<std::int64_t>(t.pushes));
+  w.value(static_cast<std::int64_t>(t.creases));
   w.value(t.push_work);
   w.value(t.max_activation_gap);
   for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
@@ -162,6 +163,7 @@ RunTotals read_totals(Reader& r) {
   t.split_passes = r.value<std::int64_t>();
   t.rate_steps = r.value<std::int64_t>();
   t.pushes = r.value<std::int64_t>();
+  t.creases = r.value<std::int64_t>();
   t.push_work = r.value<double>();
   t.max_activation_gap = r.value<double>();
   for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
@@ -215,6 +217,7 @@ void RunTotals::add(const contact::StepContactStats& c) {
   split_passes += c.split_passes;
   rate_steps += c.rate_steps;
   pushes += c.pushes;
+  creases += c.creases;
   push_work += c.push_work;
   max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
   max_penetration = std::max(max_penetration, c.max_penetration);

@@ -35,6 +35,7 @@ struct RunTotals {
   std::int64_t split_passes = 0;     ///< solves of those attempts
   std::int64_t rate_steps = 0;       ///< constraint-steps under the rate condition (48) (contact::Constraint::rate)
   std::int64_t pushes = 0;           ///< slaves pushed out from behind their facets (contact::Constraint::push)
+  std::int64_t creases = 0;          ///< crease pairs formed (contact::ActiveSet::crease)
   double push_work = 0.0;            ///< the push-outs' work taken back out of the velocities [J]
   double max_activation_gap = 0.0;
   /// Extremes over the steps: gaps of the active slaves (NaN while none

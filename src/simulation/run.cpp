@@ -155,6 +155,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.split_passes = totals.split_passes;
   summary.rate_steps = totals.rate_steps;
   summary.pushes = totals.pushes;
+  summary.creases = totals.creases;
   summary.push_work = totals.push_work;
   summary.min_active_gap = totals.min_active_gap;
   summary.max_active_gap = totals.max_active_gap;

@@ -41,6 +41,7 @@ Json figures(const RunSummary& s, int unknowns) {
               {"impact_split_passes", s.split_passes},
               {"rate_steps", s.rate_steps},
               {"pushes", s.pushes},
+              {"creases", s.creases},
               {"push_work", s.push_work},
               {"max_activation_gap", s.max_activation_gap},
               {"seconds",

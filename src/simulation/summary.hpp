@@ -35,6 +35,7 @@ struct RunSummary {
   std::int64_t split_passes = 0;    ///< solves of those attempts (beyond the steps' own)
   std::int64_t rate_steps = 0;      ///< constraint-steps under the rate condition (48) (contact::Constraint::rate)
   std::int64_t pushes = 0;          ///< slaves pushed out from behind their facets (contact::Constraint::push)
+  std::int64_t creases = 0;         ///< crease pairs formed (contact::ActiveSet::crease)
   double push_work = 0.0;           ///< the push-outs' work taken back out of the velocities [J]
   double min_active_gap = 0.0;      ///< smallest gap of an active slave at a step's end [m] (NaN: none)
   double max_active_gap = 0.0;      ///< largest gap of an active slave at a step's end [m] (NaN: none)

@@ -323,6 +323,48 @@ kind = ")" + kind + R"("
 )";
 }
 
+/// A spinning elastic sphere thrown along the inside of a spinning
+/// spherical shell (3D, free): its slaves slide over the shell's concave
+/// faceted inner surface.
+inline std::string sphere_inside_shell(const std::string& kind, double step, double end) {
+  return R"(dimension = 3
+[time]
+step = )" + std::to_string(step) +
+         R"(
+end = )" + std::to_string(end) +
+         R"(
+[[body]]
+name = "small"
+translate = [0.0, -0.19, 0.0]
+velocity = [4.0, -0.3, 1.0]
+angular_velocity = [10.0, 20.0, 30.0]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "sphere"
+radius = 0.1
+size = 0.05
+[[body]]
+name = "shell"
+angular_velocity = [0.0, 0.0, -10.0]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "spherical_shell"
+inner_radius = 0.3
+outer_radius = 0.36
+size = 0.06
+[[contact]]
+slave = "small"
+master = "shell:inner"
+kind = ")" + kind + R"("
+)";
+}
+
 /// A hollow elastic disc (2D, an annulus) thrown onto a rigid floor (a bare
 /// segment) at 4 m/s along x under gravity: it lands, rolls with full stick
 /// and hops; `step` is Δt [s].
@@ -370,5 +412,11 @@ kind = "stick"
 /// per step and its sum depends on which side Newton comes from (the
 /// predictor). A test of the scheme's own conservation takes it out.
 inline std::string to_round_off(const std::string& toml) { return toml + "[newton]\nresidual_tolerance = 1e-15\n"; }
+
+/// `toml` (without an [active_set] table) with impacts located in time and
+/// the persistent-contact velocity update.
+inline std::string located(const std::string& toml) {
+  return toml + "[active_set]\nscheme = \"persistent\"\nlocate_impacts = true\n";
+}
 
 }  // namespace conserve::test

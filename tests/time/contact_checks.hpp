@@ -21,10 +21,10 @@ void run_until_contact(ContactRun<D>& run, std::size_t min_active, int max_steps
 /// The reduced tangent against central differences of the reduced residual
 /// r(q) = Tᵀ g after the full update by q (step 1, and for frictionless
 /// slaves the mid-point projection and normal correction), on every free,
-/// non-dummy unknown, at a non-converged iterate of the next step.
-/// Returns the relative error.
+/// non-dummy unknown (or, given `nodes`, those of these nodes only), at a
+/// non-converged iterate of the next step. Returns the relative error.
 template <int D>
-double reduced_tangent_error(ContactRun<D>& run) {
+double reduced_tangent_error(ContactRun<D>& run, const std::vector<int>* nodes = nullptr) {
   const auto& model = run.problem.model;
   const double dt = run.scenario.time.step;
   Eigen::VectorXd u = run.state.u + dt * run.state.v + 1e-4 * dt * run.state.v.cwiseAbs();  // off the solution
@@ -47,7 +47,7 @@ double reduced_tangent_error(ContactRun<D>& run) {
   Eigen::VectorXd u_base = u, r0;
   time::StepProblem<D> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u_base, K, &base);
   problem.residual(r0);
-  const Eigen::MatrixXd Kr(problem.tangent());
+  const SparseMatrix Kr = problem.tangent();
   const std::size_t count = base.constraints().size();
   std::vector<char> skip(model.num_dofs(), 0);
   for (int d : model.prescribed.dofs) skip[d] = 1;
@@ -56,9 +56,16 @@ double reduced_tangent_error(ContactRun<D>& run) {
   for (const auto& c : at_base->constraints) ++held[c.slave];
   for (const auto& c : at_base->constraints)
     for (int i = (c.kind == contact::Kind::frictionless ? D - held[c.slave] : 0); i < D; ++i) skip[c.slave * D + i] = 1;
+  std::vector<int> columns;
+  if (nodes) {
+    for (int a : *nodes)
+      for (int i = 0; i < D; ++i) columns.push_back(a * D + i);
+  } else {
+    for (int j = 0; j < model.num_dofs(); ++j) columns.push_back(j);
+  }
   const double h = 1e-7 * model.size();
   double err = 0.0, scale = 0.0;
-  for (int j = 0; j < model.num_dofs(); ++j) {
+  for (int j : columns) {
     if (skip[j]) continue;
     Eigen::VectorXd q = Eigen::VectorXd::Zero(model.num_dofs());
     q[j] = h;
