@@ -22,7 +22,8 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// end of a step cut short at an impact. 5: the count of constraint-steps
 /// under the rate condition (48) in the run's totals. 6: no end of a cut
 /// step (the steps after one go on at the full Δt). 7: the push-outs and
-/// their work in the run's totals.
+/// their work in the run's totals. 8: the crease pairs formed
+/// (contact::ActiveSet::crease) in the run's totals.
 constexpr std::uint32_t kVersion = 8;
 
 /// Appends raw values to a byte buffer.
