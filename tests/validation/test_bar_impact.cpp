@@ -1,6 +1,9 @@
 // Longitudinal impact of identical elastic bars (ν = 0) against 1D wave
 // theory: bar A at v0 hits bar B at rest; they stay in contact for 2L/c,
 // then A is at rest and B moves at v0; the interface stress is ρ c v0 / 2.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
@@ -131,6 +134,60 @@ TEST(BarImpact, MidStepImpactLocated) {
     // 0.0091, at the level of the mesh's dispersion.
     if (dim == 2 || !fine) EXPECT_LE(std::abs(located.exit_a), std::abs(paper.exit_a)) << dim << "D h = " << size;
   }
+}
+
+// The impact's phase within a step. The default bars meet exactly at the
+// end of a step (gap 1e-4 m = 10 v0 Δt): the one phase at which the
+// paper's activation holds no gap. Here the gap is v0 Δt (10 + φ) with φ
+// swept over one step, and each phase is run with the paper's scheme and
+// with located impacts + the persistent velocity, measured the same way.
+// "No worse than today" is judged over the phases, not at the paper's one
+// exact phase: the worst duration error and the worst exit velocity of the
+// new pair must not exceed the paper's, and each located duration is within
+// one step of 2L/c (2D; 3D's default mesh is two steps short from its
+// dispersion, MidStepImpactLocated).
+// Measured (worst exit, paper / located; mean): 2D 0.0103 / 0.0081 (0.0084
+// / 0.0081); 3D 0.0162 / 0.0159 (0.0153 / 0.0159); 3D h = 0.025 m 0.0100 /
+// 0.0094 (0.0087 / 0.0094). The mean is printed, not asserted: in 3D the
+// new pair's is worse (docs/validation.md §7 gives the cause).
+void sweep_phases(int dim, double size, int phases) {
+  double worst_duration[2] = {0, 0}, worst_exit[2] = {0, 0}, sum_exit[2] = {0, 0};
+  for (int k = 0; k < phases; ++k) {
+    const double phi = static_cast<double>(k) / phases;
+    for (int located = 0; located < 2; ++located) {
+      Bars bars;
+      bars.dimension = dim;
+      bars.size = size;
+      bars.gap = bars.v0 * bars.step * (10.0 + phi);
+      if (located) bars.active_set = "scheme = \"persistent\"\nlocate_impacts = true";
+      char label[64];
+      std::snprintf(label, sizeof label, "phase %.3f, %s", phi, located ? "located" : "paper");
+      const Errors e = dim == 2 ? check_two_bars<2>(bars, label) : check_two_bars<3>(bars, label);
+      expect_within_issue_tolerance(e);
+      worst_duration[located] = std::max(worst_duration[located], std::abs(e.duration));
+      worst_exit[located] = std::max(worst_exit[located], std::abs(e.exit_a));
+      sum_exit[located] += std::abs(e.exit_a);
+      if (located && dim == 2)
+        EXPECT_LE(std::abs(e.duration), bars.step * bars.wave_speed() / (2.0 * bars.shortest()) * (1 + 1e-9))
+            << "phase " << phi;
+    }
+  }
+  std::printf(
+      "[ measured ] %dD h = %g over %d phases: worst |duration error| paper %.2f %%, located %.2f %%; "
+      "worst |exit v_A/v0| paper %.4f, located %.4f; mean paper %.4f, located %.4f\n",
+      dim, size, phases, 100 * worst_duration[0], 100 * worst_duration[1], worst_exit[0], worst_exit[1],
+      sum_exit[0] / phases, sum_exit[1] / phases);
+  EXPECT_LE(worst_duration[1], worst_duration[0] * (1 + 1e-9));
+  EXPECT_LE(worst_exit[1], worst_exit[0]);
+}
+
+TEST(BarImpact, ImpactPhaseSweep2d) { sweep_phases(2, 0.025, 8); }
+
+TEST(BarImpact, ImpactPhaseSweep3d) { sweep_phases(3, 0.05, 8); }
+
+TEST(BarImpact, ImpactPhaseSweep3dFineLong) {
+  if (!long_tests()) GTEST_SKIP() << "set CONSERVE_LONG_TESTS=1";
+  sweep_phases(3, 0.025, 8);
 }
 
 /// Refinement (CONSERVE_LONG_TESTS=1): the mesh at a fixed Courant number
