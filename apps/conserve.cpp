@@ -1,10 +1,13 @@
 // conserve: energy–momentum conserving finite-element dynamics.
-//   conserve run SCENARIO [-o DIR] [--quiet] [--steps N] [--restart CHECKPOINT]
-//   conserve check SCENARIO
+//   conserve run SCENARIO [-o DIR] [--quiet] [--steps N] [--restart CHECKPOINT] [--set SECTION.KEY=VALUE ...]
+//   conserve check SCENARIO [--set SECTION.KEY=VALUE ...]
 // Every failure is one line on stderr and a non-zero exit code:
 // 1 bad input, 2 bad command line, 3 solver failure, 4 anything else.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
 
 #include "core/build_info.hpp"
 #include "core/error.hpp"
@@ -78,6 +81,10 @@ int main(int argc, char** argv) {
                                                 conserve::build_info::commit()));
   app.require_subcommand(1);
   std::string scenario_file, output_dir, restart_file;
+  std::vector<std::string> overrides;
+  const std::string set_help =
+      "replace or add a key of the scenario, SECTION.KEY=VALUE (repeatable; VALUE in TOML, or a bare string), e.g. "
+      "--set active_set.scheme=persistent";
   bool quiet = false;
   std::int64_t steps = -1;
   int blas_threads = 1;
@@ -90,8 +97,10 @@ int main(int argc, char** argv) {
                   "continue from a checkpoint (OUT/checkpoints/ckpt_NNNNNN.bin) of the same scenario");
   run->add_option("--blas-threads", blas_threads, "threads of the BLAS under UMFPACK (default 1)")
       ->check(CLI::PositiveNumber);
+  run->add_option("--set", overrides, set_help)->allow_extra_args(false);
   CLI::App* check = app.add_subcommand("check", "validate a scenario (meshes included) without running it");
   check->add_option("scenario", scenario_file, "scenario file (TOML)")->required();
+  check->add_option("--set", overrides, set_help)->allow_extra_args(false);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -99,7 +108,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   return guarded([&] {
-    const conserve::io::Scenario scenario = conserve::io::read_scenario(scenario_file);
+    const conserve::io::Scenario scenario = conserve::io::read_scenario(scenario_file, overrides);
     if (*check) return print_check(scenario_file, conserve::simulation::check(scenario));
     conserve::solver::set_blas_threads(blas_threads);
     conserve::simulation::RunOptions options;

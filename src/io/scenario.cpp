@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <sstream>
 
@@ -26,6 +28,75 @@ toml::table parse_toml(std::string_view text, const std::string& file) {
     }
     const auto& where = e.source().begin;
     throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file, where.line, where.column, description));
+  }
+}
+
+/// A dotted path's parts, each a TOML bare key (letters, digits, '_', '-').
+std::vector<std::string> override_path(std::string_view path, const std::string& item) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = path.find('.', start);
+    const std::string_view part = path.substr(start, dot == std::string_view::npos ? path.npos : dot - start);
+    const bool bare = !part.empty() && std::all_of(part.begin(), part.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+    });
+    if (!bare)
+      throw InputError(
+          fmt::format("--set '{}': '{}' is not a key path (expected SECTION.KEY=VALUE, keys of letters, "
+                      "digits, '_' and '-', e.g. active_set.scheme=persistent)",
+                      item, path));
+    parts.emplace_back(part);
+    if (dot == std::string_view::npos) return parts;
+    start = dot + 1;
+  }
+}
+
+/// VALUE as a TOML value if it is one, else as a string; parsed under the
+/// source name "--set" so that messages about it name the override.
+toml::table override_value(const std::string& value) {
+  const std::string source(detail::kOverrideSource);
+  try {
+    toml::table t = toml::parse("v = " + value, std::string_view(source));
+    if (t.size() == 1 && t.contains("v")) return t;
+  } catch (const toml::parse_error&) {
+  }
+  std::string quoted;
+  for (char c : value) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return toml::parse("v = \"" + quoted + "\"", std::string_view(source));
+}
+
+/// Applies the `--set` overrides to the parsed file (read_scenario).
+void apply_overrides(toml::table& root, const std::vector<std::string>& overrides) {
+  for (const std::string& item : overrides) {
+    if (item.find_first_of("\n\r") != std::string::npos)
+      throw InputError("--set: an override has a line break (expected SECTION.KEY=VALUE on one line)");
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos)
+      throw InputError(
+          fmt::format("--set '{}': no '=' (expected SECTION.KEY=VALUE, e.g. active_set.scheme=persistent)", item));
+    const std::vector<std::string> parts = override_path(std::string_view(item).substr(0, eq), item);
+    toml::table* table = &root;
+    std::string prefix;
+    for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+      prefix += (k ? "." : "") + parts[k];
+      if (!table->contains(parts[k])) {  // a new table, marked as the override's so that messages name it
+        toml::table made = toml::parse("v = {}", std::string_view(std::string(detail::kOverrideSource)));
+        made.get("v")->as_table()->is_inline(false);
+        made.get("v")->visit([&](auto&& v) { table->insert(parts[k], std::move(v)); });
+      }
+      toml::node& node = *table->get(parts[k]);
+      if (!node.is_table())
+        throw InputError(fmt::format("--set '{}': {} is {}, not a table (--set reaches the keys of tables{})", item,
+                                     prefix, detail::type_of(node),
+                                     node.is_array_of_tables() ? ", not those of [[...]] entries" : ""));
+      table = node.as_table();
+    }
+    toml::table value = override_value(item.substr(eq + 1));
+    value.get("v")->visit([&](auto&& v) { table->insert_or_assign(parts.back(), std::move(v)); });
   }
 }
 
@@ -91,13 +162,23 @@ OutputSpec parse_output(const Section& s) {
 
 }  // namespace
 
-Scenario parse_scenario(std::string_view text, const std::filesystem::path& file) {
+Scenario parse_scenario(std::string_view text, const std::filesystem::path& file,
+                        const std::vector<std::string>& overrides) {
   detail::Context ctx{file.string()};
-  const auto root = parse_toml(text, ctx.file);
+  auto root = parse_toml(text, ctx.file);
+  apply_overrides(root, overrides);
   const Section top(root, scenario_section(""), "", ctx);
   Scenario scenario;
   scenario.file = file;
   scenario.text = text;
+  if (!overrides.empty()) {
+    std::ostringstream effective;
+    effective << "# " << file.string();
+    for (const std::string& item : overrides) effective << " --set '" << item << "'";
+    effective << "\n# (written by conserve with the overrides applied; the file's comments are not kept)\n"
+              << toml::toml_formatter{root} << "\n";
+    scenario.text = effective.str();
+  }
   scenario.title = top.string("title");
   scenario.dimension = ctx.dimension = top.integer("dimension");
   scenario.time = parse_time(top.table("time"));
@@ -112,14 +193,14 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   return scenario;
 }
 
-Scenario read_scenario(const std::filesystem::path& file) {
+Scenario read_scenario(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
   std::ifstream in(file, std::ios::binary);
   if (!in) {
     throw InputError(fmt::format("{}: cannot open the scenario file (expected a readable TOML file)", file.string()));
   }
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_scenario(text.str(), file);
+  return parse_scenario(text.str(), file, overrides);
 }
 
 }  // namespace conserve::io

@@ -154,9 +154,21 @@ struct Scenario {
 
 /// Reads and validates a scenario file. Throws InputError
 /// "FILE:LINE: key: what is wrong (what was expected)".
-Scenario read_scenario(const std::filesystem::path& file);
+///
+/// `overrides` (`conserve run --set`) replace or add keys of the file's
+/// tables before it is validated, each "SECTION.KEY=VALUE" (nested tables
+/// by more dots, e.g. `active_set.scheme=persistent`, `time.end=0.1`).
+/// VALUE is read as a TOML value if it is one (`true`, `1e-3`, `[0, 0,
+/// -9.81]`, `"text"`), else as a string. A missing table is created;
+/// entries of arrays of tables (`[[body]]`) are not reachable. With
+/// overrides, `Scenario::text` is the effective scenario, written out as
+/// TOML under a comment naming the file and the overrides. A malformed
+/// override, or a value the key does not accept, throws InputError
+/// "--set KEY: ...".
+Scenario read_scenario(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
 
 /// Same from text; `file` is used for messages and to resolve mesh paths.
-Scenario parse_scenario(std::string_view text, const std::filesystem::path& file);
+Scenario parse_scenario(std::string_view text, const std::filesystem::path& file,
+                        const std::vector<std::string>& overrides = {});
 
 }  // namespace conserve::io

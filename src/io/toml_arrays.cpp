@@ -11,9 +11,9 @@ namespace conserve::io::detail {
 std::vector<double> Section::numbers(const toml::node& node, const std::string& path, int count,
                                      std::string_view expected) const {
   const auto* array = node.as_array();
-  if (!array) detail::fail(*ctx_, line_of(node), path, fmt::format("got {}", type_of(node)), expected);
+  if (!array) detail::fail(*ctx_, node, path, fmt::format("got {}", type_of(node)), expected);
   if (array->size() != static_cast<std::size_t>(count)) {
-    detail::fail(*ctx_, line_of(node), path, fmt::format("has {} elements", array->size()), expected);
+    detail::fail(*ctx_, node, path, fmt::format("has {} elements", array->size()), expected);
   }
   std::vector<double> values;
   for (std::size_t i = 0; i < array->size(); ++i) {
@@ -21,10 +21,10 @@ std::vector<double> Section::numbers(const toml::node& node, const std::string& 
     const auto value = number_value(element);
     const auto element_path = fmt::format("{}[{}]", path, i);
     if (!value) {
-      detail::fail(*ctx_, line_of(element), element_path, fmt::format("got {}", type_of(element)), "a number");
+      detail::fail(*ctx_, element, element_path, fmt::format("got {}", type_of(element)), "a number");
     }
     if (!std::isfinite(*value)) {
-      detail::fail(*ctx_, line_of(element), element_path, fmt::format("{} is not finite", *value), "a finite number");
+      detail::fail(*ctx_, element, element_path, fmt::format("{} is not finite", *value), "a finite number");
     }
     values.push_back(*value);
   }
@@ -92,7 +92,7 @@ std::vector<int> Section::components(std::string_view key) const {
     const auto element_path = fmt::format("{}[{}]", path(key), i);
     const int index = component_index(element, element_path, expected);
     if (std::find(result.begin(), result.end(), index) != result.end()) {
-      detail::fail(*ctx_, line_of(element), element_path, fmt::format("'{}' is repeated", "xyz"[index]), expected);
+      detail::fail(*ctx_, element, element_path, fmt::format("'{}' is repeated", "xyz"[index]), expected);
     }
     result.push_back(index);
   }
@@ -102,12 +102,11 @@ std::vector<int> Section::components(std::string_view key) const {
 
 int Section::component_index(const toml::node& node, const std::string& path, std::string_view expected) const {
   const auto* name = node.as_string();
-  if (!name) detail::fail(*ctx_, line_of(node), path, fmt::format("got {}", type_of(node)), expected);
+  if (!name) detail::fail(*ctx_, node, path, fmt::format("got {}", type_of(node)), expected);
   const auto& text = name->get();
   const int index = text.size() == 1 ? text[0] - 'x' : -1;
   if (index < 0 || index >= ctx_->dimension) {
-    detail::fail(*ctx_, line_of(node), path, fmt::format("'{}' is not a component in {}D", text, ctx_->dimension),
-                 expected);
+    detail::fail(*ctx_, node, path, fmt::format("'{}' is not a component in {}D", text, ctx_->dimension), expected);
   }
   return index;
 }

@@ -31,9 +31,11 @@ std::string with_range(std::string text, const KeySpec& key) {
 
 }  // namespace
 
-void fail(const Context& ctx, std::uint32_t line, std::string_view key, std::string_view what,
+void fail(const Context& ctx, const toml::node& node, std::string_view key, std::string_view what,
           std::string_view expected) {
-  throw InputError(fmt::format("{}:{}: {}: {} (expected {})", ctx.file, line, key, what, expected));
+  if (const auto& source = node.source().path; source && *source == kOverrideSource)
+    throw InputError(fmt::format("{} {}: {} (expected {})", kOverrideSource, key, what, expected));
+  throw InputError(fmt::format("{}:{}: {}: {} (expected {})", ctx.file, line_of(node), key, what, expected));
 }
 
 std::uint32_t line_of(const toml::node& node) { return std::max<std::uint32_t>(node.source().begin.line, 1); }
@@ -114,11 +116,11 @@ std::string Section::path(std::string_view key) const {
 
 void Section::fail(std::string_view key, std::string_view what, std::string_view expected) const {
   const auto* node = find(key);
-  detail::fail(*ctx_, line_of(node ? *node : *table_), path(key), what, expected);
+  detail::fail(*ctx_, node ? *node : *table_, path(key), what, expected);
 }
 
 void Section::fail_table(std::string_view what, std::string_view expected) const {
-  detail::fail(*ctx_, line_of(*table_), path_, what, expected);
+  detail::fail(*ctx_, *table_, path_, what, expected);
 }
 
 const KeySpec& Section::spec_of(std::string_view key) const {
@@ -158,8 +160,7 @@ void Section::check_range(std::string_view key, const toml::node& node, double v
   const bool low = spec.min && (spec.min->inclusive ? value < spec.min->value : value <= spec.min->value);
   const bool high = spec.max && (spec.max->inclusive ? value > spec.max->value : value >= spec.max->value);
   if (low || high) {
-    detail::fail(*ctx_, line_of(node), path(key), fmt::format("{} is out of range", value),
-                 describe(spec, ctx_->dimension));
+    detail::fail(*ctx_, node, path(key), fmt::format("{} is out of range", value), describe(spec, ctx_->dimension));
   }
 }
 
@@ -227,7 +228,7 @@ std::vector<Section> Section::table_array(std::string_view key) const {
     const auto& element = *array->get(i);
     const auto element_path = fmt::format("{}[{}]", path(key), i);
     if (!element.is_table()) {
-      detail::fail(*ctx_, line_of(element), element_path, fmt::format("got {}", type_of(element)), "a table");
+      detail::fail(*ctx_, element, element_path, fmt::format("got {}", type_of(element)), "a table");
     }
     sections.emplace_back(*element.as_table(), child_spec(key), element_path, *ctx_);
   }

@@ -21,8 +21,13 @@ struct Context {
   int dimension = 3;  ///< sizes of vectors and matrices
 };
 
-/// Throws InputError "FILE:LINE: KEY: WHAT (EXPECTED)".
-[[noreturn]] void fail(const Context& ctx, std::uint32_t line, std::string_view key, std::string_view what,
+/// The source name of values given on the command line (`conserve run
+/// --set`): messages about them say "--set KEY" instead of FILE:LINE.
+inline constexpr std::string_view kOverrideSource = "--set";
+
+/// Throws InputError "FILE:LINE: KEY: WHAT (EXPECTED)", LINE that of
+/// `node`; "--set KEY: WHAT (EXPECTED)" if `node` came from the command line.
+[[noreturn]] void fail(const Context& ctx, const toml::node& node, std::string_view key, std::string_view what,
                        std::string_view expected);
 
 /// The source line of a node (1 when unknown).

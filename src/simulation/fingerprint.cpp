@@ -148,6 +148,12 @@ Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& 
         [&](Hasher& h) { h.value(sc.solver.forcing_max); });
   f.setting("[solver] modified_newton", sc.solver.modified_newton ? "true" : "false");
   f.setting("[solver] petsc_options", sc.solver.petsc_options);
+  // how contact is resolved changes the trajectory ([active_set]
+  // max_passes does not, unless a step fails: it may be raised to get past one)
+  f.setting("[active_set] scheme", sc.active_set.scheme == io::ContactScheme::persistent ? "persistent" : "paper");
+  f.setting("[active_set] locate_impacts", sc.active_set.locate_impacts ? "true" : "false");
+  f.add("[active_set] gap_tolerance", fmt::format("{}", sc.active_set.gap_tolerance),
+        [&](Hasher& h) { h.value(sc.active_set.gap_tolerance); });
   f.setting("contact pairs", fmt::format("{}", sc.contacts.size()));
   for (std::size_t i = 0; i < sc.contacts.size(); ++i) add_contact(f, i, sc.contacts[i]);
   return f.take();

@@ -134,6 +134,22 @@ TEST(Restart, RefusalNamesAChangedContactKind) {
                         "the checkpoint was written with contact[0] kind = frictionless, this scenario has stick");
 }
 
+// The contact scheme changes the trajectory: a restart must be given the
+// same [active_set] (here by `--set`) as the run it continues.
+TEST(Restart, RefusalNamesAChangedContactScheme) {
+  const auto dir = scratch("restart_refused_scheme");
+  write_file(dir / "s.toml", kGlancingDiscs);
+  const std::string located = " --set active_set.scheme=persistent --set active_set.locate_impacts=true";
+  ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10" + located, dir).exit_code, 0);
+  const CliResult r = run_cli("run s.toml -q -o b --restart a/checkpoints/ckpt_000010.bin", dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("written by another scenario: the checkpoint was written with [active_set] scheme = "
+                               "persistent, this scenario has paper"));
+  EXPECT_FALSE(fs::exists(dir / "b")) << "a refused restart wrote output";
+  const CliResult same = run_cli("run s.toml -q -o c --restart a/checkpoints/ckpt_000010.bin" + located, dir);
+  EXPECT_EQ(same.exit_code, 0) << same.err;
+}
+
 TEST(Restart, RefusalNamesChangedNodeCoordinates) {
   // Only the nodes move: the cells, their volumes and all else are equal.
   expect_refused_naming("nodes", "name = \"big\"\n", "name = \"big\"\ntranslate = [0.0, -0.001]\n",

@@ -7,6 +7,7 @@
 
 #include "io/history_writer.hpp"
 #include "support/cli.hpp"
+#include "support/files.hpp"
 
 namespace conserve::test {
 namespace {
@@ -37,6 +38,35 @@ ly = 0.4
 lz = 0.3
 size = 0.2
 )";
+
+/// `--set SECTION.KEY=VALUE` changes the run without editing the file: the
+/// run follows the override, and the output's scenario.toml is the
+/// effective scenario, which runs to the same history. A bad override is
+/// one line, exit code 1, and nothing written.
+TEST(Run, SetOverridesAKeyAndTheOutputKeepsTheEffectiveScenario) {
+  const auto dir = scratch("run_set");
+  write_file(dir / "box.toml", kSpinningBox);
+  const CliResult r = run_cli("run box.toml -o result -q --set time.end=0.1 --set 'time.mass=\"lumped\"'", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("finished 10 steps"));
+  const std::string effective = slurp(dir / "result/scenario.toml");
+  EXPECT_THAT(effective, HasSubstr("--set 'time.end=0.1' --set 'time.mass=\"lumped\"'"));
+  EXPECT_THAT(effective, HasSubstr("mass = 'lumped'"));
+  const CliResult again = run_cli("run result/scenario.toml -o again -q", dir);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(slurp(dir / "again/history.csv"), slurp(dir / "result/history.csv"));
+  const CliResult plain = run_cli("run box.toml -o plain -q --steps 10", dir);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_NE(slurp(dir / "plain/history.csv"), slurp(dir / "result/history.csv"));  // the mass was lumped
+
+  for (const std::string& bad : {"--set time.mass=diagonal", "--set time.end", "--set body.size=0.1"}) {
+    const CliResult b = run_cli("run box.toml -o bad -q " + bad, dir);
+    EXPECT_EQ(b.exit_code, 1) << bad;
+    EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << b.err;
+    EXPECT_THAT(b.err, HasSubstr("conserve: error: --set ")) << b.err;
+    EXPECT_FALSE(fs::exists(dir / "bad")) << bad;
+  }
+}
 
 TEST(Run, WritesHistoryAndParaViewFilesAndConserves) {
   const auto dir = scratch("run_box");

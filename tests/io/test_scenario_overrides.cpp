@@ -1,0 +1,97 @@
+/// `--set SECTION.KEY=VALUE` overrides (read_scenario): keys replaced and
+/// added, TOML and bare values, the effective text, and one-line errors
+/// that name the override.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "scenario_test_support.hpp"
+
+namespace conserve::io {
+namespace {
+
+using test::case_file;
+using test::minimal;
+
+/// The InputError message of parsing `text` with `overrides` ("" if none).
+std::string error_of(const std::string& text, const std::vector<std::string>& overrides) {
+  try {
+    parse_scenario(text, case_file(), overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ScenarioOverrides, ReplaceAndAddKeys) {
+  const std::string text = minimal();
+  const Scenario plain = parse_scenario(text, case_file());
+  ASSERT_EQ(plain.active_set.scheme, ContactScheme::paper);
+  ASSERT_FALSE(plain.active_set.locate_impacts);
+  const Scenario s = parse_scenario(text, case_file(),
+                                    {"time.end=0.2", "active_set.scheme=persistent", "active_set.locate_impacts=true",
+                                     "active_set.gap_tolerance=2e-3", "loads.gravity=[0, 0, -9.81]",
+                                     "title=a bare string", "output.directory=\"out/x\""});
+  EXPECT_EQ(s.time.end, 0.2);                                 // replaced
+  EXPECT_EQ(s.time.step, plain.time.step);                    // kept
+  EXPECT_EQ(s.active_set.scheme, ContactScheme::persistent);  // table created
+  EXPECT_TRUE(s.active_set.locate_impacts);
+  EXPECT_EQ(s.active_set.gap_tolerance, 2e-3);
+  EXPECT_EQ(s.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_EQ(s.title, "a bare string");
+  EXPECT_EQ(s.output.directory, std::filesystem::path("out/x"));
+  // The last of two overrides of one key wins.
+  EXPECT_EQ(parse_scenario(text, case_file(), {"time.end=0.3", "time.end=0.4"}).time.end, 0.4);
+}
+
+TEST(ScenarioOverrides, TextIsTheEffectiveScenario) {
+  const std::string text = minimal();
+  EXPECT_EQ(parse_scenario(text, case_file(), {}).text, text);  // no override: the file's bytes
+  const Scenario s = parse_scenario(text, case_file(), {"time.end=0.2", "active_set.scheme=persistent"});
+  EXPECT_EQ(s.text.rfind("# " + case_file() + " --set 'time.end=0.2' --set 'active_set.scheme=persistent'\n", 0), 0u)
+      << s.text;
+  // Read back without overrides, it is the same scenario.
+  const Scenario again = parse_scenario(s.text, case_file());
+  EXPECT_EQ(again.time.end, 0.2);
+  EXPECT_EQ(again.time.step, s.time.step);
+  EXPECT_EQ(again.active_set.scheme, ContactScheme::persistent);
+  ASSERT_EQ(again.bodies.size(), s.bodies.size());
+  EXPECT_EQ(again.bodies[0].name, s.bodies[0].name);
+  EXPECT_EQ(again.bodies[0].material.density, s.bodies[0].material.density);
+}
+
+TEST(ScenarioOverrides, BadOverridesFailWithOneLineNamingThem) {
+  const std::string text = minimal();
+  struct Case {
+    std::string item, starts, contains;
+  };
+  const std::vector<Case> cases = {
+      {"time", "--set 'time': ", "no '='"},
+      {"time..end=1", "--set 'time..end=1': ", "not a key path"},
+      {"=1", "--set '=1': ", "not a key path"},
+      {"time.end=", "--set time.end: ", "got a string"},
+      {"body.density=3", "--set 'body.density=3': ", "[[...]]"},
+      {"time.step.x=1", "--set 'time.step.x=1': ", "time.step is a float, not a table"},
+      {"title.x=1", "--set title: ", "got a table"},  // the table it creates
+      {"active_set.scheme=persisten", "--set active_set.scheme: ", "paper, persistent"},
+      {"active_set.locate_impacts=yes", "--set active_set.locate_impacts: ", "true or false"},
+      {"active_set.shceme=persistent", "--set active_set.shceme: ", "unknown key"},
+      {"time.end=-1", "--set time.end: ", "end ≥ step"},
+      {"title=\"\"\"two\nlines\"\"\"", "--set: ", "line break"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = error_of(text, {c.item});
+    EXPECT_EQ(message.rfind(c.starts, 0), 0u) << c.item << ": " << message;
+    EXPECT_NE(message.find(c.contains), std::string::npos) << c.item << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  // An error in the file itself still names the file and line.
+  EXPECT_TRUE(test::fails_with(minimal("[active_set]\nscheme = \"x\"\n"), 13, "active_set.scheme", "paper"));
+  EXPECT_EQ(error_of(minimal("[active_set]\nscheme = \"x\"\n"), {"time.end=0.2"})
+                .rfind(case_file() + ":13: active_set.scheme: ", 0),
+            0u);
+}
+
+}  // namespace
+}  // namespace conserve::io
