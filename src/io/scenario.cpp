@@ -84,7 +84,7 @@ void apply_overrides(toml::table& root, const std::vector<std::string>& override
     for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
       prefix += (k ? "." : "") + parts[k];
       if (!table->contains(parts[k])) {  // a new table, marked as the override's so that messages name it
-        toml::table made = toml::parse("v = {}", std::string_view(std::string(detail::kOverrideSource)));
+        toml::table made = override_value("{}");
         made.get("v")->as_table()->is_inline(false);
         made.get("v")->visit([&](auto&& v) { table->insert(parts[k], std::move(v)); });
       }
