@@ -4,6 +4,8 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <vector>
 
 #include "core/error.hpp"
@@ -13,6 +15,69 @@
 namespace conserve::solver {
 
 using petsc::check;
+
+namespace {
+
+/// GMRES's restart length (`-ksp_gmres_restart` may change it).
+constexpr PetscInt kRestart = 60;
+
+/// PETSc's default test, and an early end for a solve that cannot reach
+/// its tolerance within the iteration limit: at the end of each restart
+/// cycle the residual's reduction over that cycle, taken as the rate of
+/// the cycles to come, predicts the iterations still needed; if that
+/// passes the limit the solve ends now (KSP_DIVERGED_ITS), as it would
+/// have at the limit, and the matrix goes to the LU (KrylovSolver::solve)
+/// without the cycles that would not have reached it. A restarted GMRES
+/// whose cycle barely lowers the residual stagnates (quasi-rigid bodies,
+/// docs/validation.md §7).
+struct StagnationTest {
+  PetscInt restart = kRestart;  ///< the KSP's restart length
+  void* defaults = nullptr;     ///< KSPConvergedDefault's context
+  PetscReal initial = 0.0;      ///< |r| at iteration 0
+  PetscReal cycle_start = 0.0;  ///< |r| at the start of the current cycle
+  PetscInt cycle_first = 0;     ///< the iteration it started at
+
+  static PetscErrorCode test(KSP ksp, PetscInt n, PetscReal rnorm, KSPConvergedReason* reason, void* context) {
+    auto* self = static_cast<StagnationTest*>(context);
+    PetscErrorCode error = KSPConvergedDefault(ksp, n, rnorm, reason, self->defaults);
+    if (error != 0 || *reason != KSP_CONVERGED_ITERATING) return error;
+    if (n == 0) {
+      self->initial = self->cycle_start = rnorm;
+      self->cycle_first = 0;
+      return 0;
+    }
+    // GMRES tests a restart's iteration twice (the cycle's estimate, then
+    // the new cycle's true residual): the cycle is judged once.
+    if (n < self->cycle_first + self->restart) return 0;
+    PetscReal rtol = 0.0, atol = 0.0, dtol = 0.0;
+    PetscInt limit = 0;
+    error = KSPGetTolerances(ksp, &rtol, &atol, &dtol, &limit);
+    if (error != 0) return error;
+    const double rate = rnorm / self->cycle_start;  // per cycle
+    const double target = std::max(rtol * self->initial, atol);
+    self->cycle_start = rnorm;
+    self->cycle_first = n;
+    if (!(rnorm > target)) return 0;
+    const double cycles = rate < 1.0 ? std::log(target / rnorm) / std::log(rate) : 1e300;
+    if (static_cast<double>(n) + cycles * static_cast<double>(self->restart) > static_cast<double>(limit))
+      *reason = KSP_DIVERGED_ITS;
+    return 0;
+  }
+
+  StagnationTest() = default;
+  StagnationTest(const StagnationTest&) = delete;
+  StagnationTest& operator=(const StagnationTest&) = delete;
+  ~StagnationTest() {
+    if (defaults) KSPConvergedDefaultDestroy(defaults);
+  }
+
+  static PetscErrorCode destroy(void* context) {
+    delete static_cast<StagnationTest*>(context);
+    return 0;
+  }
+};
+
+}  // namespace
 
 struct KrylovSolver::Petsc {
   Preconditioner kind;
@@ -43,7 +108,7 @@ struct KrylovSolver::Petsc {
     if (ksp) KSPDestroy(&ksp);
     check(KSPCreate(PETSC_COMM_SELF, &ksp), "KSPCreate");
     check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
-    check(KSPGMRESSetRestart(ksp, 60), "KSPGMRESSetRestart");
+    check(KSPGMRESSetRestart(ksp, kRestart), "KSPGMRESSetRestart");
     // Right preconditioning: the tolerance applies to |b − A x| itself.
     check(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");
     PC pc = nullptr;
@@ -57,6 +122,16 @@ struct KrylovSolver::Petsc {
       check(PCFactorSetShiftType(pc, MAT_SHIFT_NONZERO), "PCFactorSetShiftType");
     }
     check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+    PetscBool gmres = PETSC_FALSE;  // the options may have chosen another method
+    check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(ksp), KSPGMRES, &gmres), "PetscObjectTypeCompare");
+    if (gmres) {
+      auto stagnation = std::make_unique<StagnationTest>();
+      check(KSPGMRESGetRestart(ksp, &stagnation->restart), "KSPGMRESGetRestart");
+      check(KSPConvergedDefaultCreate(&stagnation->defaults), "KSPConvergedDefaultCreate");
+      check(KSPSetConvergenceTest(ksp, &StagnationTest::test, stagnation.get(), &StagnationTest::destroy),
+            "KSPSetConvergenceTest");
+      stagnation.release();  // the KSP owns it now
+    }
     operators_set = false;
   }
 

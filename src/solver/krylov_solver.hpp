@@ -8,7 +8,10 @@
 ///     near-null space; its interpolation is kept while the pattern stays
 ///     and only the coarse operators are recomputed.
 /// A solve whose GMRES stagnates far from its tolerance falls back to the
-/// UMFPACK LU for that matrix (Timings::linear_fallbacks counts them).
+/// UMFPACK LU for that matrix (Timings::linear_fallbacks counts them). It
+/// is found at the end of a restart cycle: if the cycle's reduction of the
+/// residual, kept up, would not reach the tolerance within the iteration
+/// limit, the solve ends there instead of running to the limit.
 /// PETSc objects are hidden here (pimpl): nothing above this layer sees a
 /// PETSc header. One process for now (PETSC_COMM_SELF).
 #include <memory>

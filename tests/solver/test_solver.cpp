@@ -11,6 +11,7 @@
 #include "solver/krylov_solver.hpp"
 #include "solver/newton.hpp"
 #include "solver/ordering.hpp"
+#include "solver/timings.hpp"
 
 namespace conserve::solver {
 namespace {
@@ -144,6 +145,37 @@ TEST(KrylovSolver, ALooseToleranceTakesFewerIterationsAndIsNotExact) {
   EXPECT_LT(few, many);
   EXPECT_GT((A * loose - b).norm(), 1e-6 * b.norm());  // it did stop early
   EXPECT_LE((A * loose - b).norm(), 1e-2 * b.norm());
+}
+
+/// GMRES(60) + ILU(0) on the Laplacian of a 120 × 120 grid, to 1e-12,
+/// needs 244 iterations (measured with a limit of 2000): more than the 200
+/// allowed. The first restart cycle's rate predicts that, so the solve ends
+/// after that cycle and the LU solves the matrix. Before 2026-11-25 it ran
+/// the 200 iterations and returned their iterate, 3.4e-11 from the answer
+/// (this test failed: 200 iterations, no fallback); on §6.1's
+/// quasi-rigid discs most GMRES work went into such solves
+/// (docs/validation.md §7). The control, the 100 × 100 grid, converges
+/// steadily in 169 iterations, past two cycles, and must not be cut.
+TEST(KrylovSolver, ASolveThatCannotReachItsToleranceInTimeGoesToTheLuAfterOneCycle) {
+  auto run = [](int m, Timings& timings) {
+    const SparseMatrix A = grid_matrix(m, 0.0);
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(m * m, -1.0, 2.0);
+    KrylovSolver s(Preconditioner::ilu, LinearSolverSettings{});
+    s.set_timings(&timings);
+    s.set_operator(A);
+    Eigen::VectorXd x;
+    s.solve(b, x, 1e-12);
+    return (A * x - b).norm() / b.norm();
+  };
+  Timings slow, steady;
+  const double slow_residual = run(120, slow);
+  EXPECT_EQ(slow.linear_fallbacks, 1);
+  EXPECT_LE(slow.linear_iterations, 61);  // one cycle; PETSc counts the restart's iteration
+  EXPECT_LT(slow_residual, 1e-12);        // the LU's answer
+  const double steady_residual = run(100, steady);
+  EXPECT_EQ(steady.linear_fallbacks, 0);
+  EXPECT_GT(steady.linear_iterations, 120);
+  EXPECT_LE(steady_residual, 1e-12 * 1.01);
 }
 
 /// The largest |i − j| over the graph's edges once vertex order[k] is k.
