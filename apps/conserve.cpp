@@ -38,7 +38,10 @@ void print_summary(const RunSummary& s) {
       t.linear_solves ? static_cast<double>(t.linear_iterations) / static_cast<double>(t.linear_solves) : 0.0,
       s.linear_solver, t.contact_search, s.output_seconds);
   if (t.linear_fallbacks > 0)
-    fmt::print("linear solver: {} GMRES solves stagnated and were redone by the LU\n", t.linear_fallbacks);
+    fmt::print(
+        "linear solver: {} GMRES solves stagnated and were redone by the LU; {} matrices after them went to "
+        "the LU first\n",
+        t.linear_fallbacks, t.lu_first);
   if (s.cutbacks > 0)
     fmt::print("cutbacks: {} failed steps retried with a halved time step (smallest {:.3e} s), see steps.csv\n",
                s.cutbacks, s.min_dt);

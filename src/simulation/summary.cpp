@@ -56,6 +56,7 @@ Json figures(const RunSummary& s, int unknowns) {
               {"linear_solves", t.linear_solves},
               {"linear_iterations", t.linear_iterations},
               {"linear_fallbacks", t.linear_fallbacks},
+              {"lu_first", t.lu_first},
               {"symbolic_analyses", t.analyses},
               {"cutbacks", s.cutbacks},
               {"min_dt", s.min_dt},

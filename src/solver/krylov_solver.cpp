@@ -21,6 +21,11 @@ namespace {
 /// GMRES's restart length (`-ksp_gmres_restart` may change it).
 constexpr PetscInt kRestart = 60;
 
+/// The most matrices sent to the LU in a row after GMRES stagnated; a
+/// run that has become easy for GMRES again (bodies that stopped
+/// spinning) comes back to it within that many tangents.
+constexpr int kLongestLuRun = 32;
+
 /// PETSc's default test, and an early end for a solve that cannot reach
 /// its tolerance within the iteration limit: at the end of each restart
 /// cycle the residual's reduction over that cycle, taken as the rate of
@@ -94,6 +99,35 @@ struct KrylovSolver::Petsc {
   const SparseMatrix* last = nullptr;  ///< the matrix of set_operator (valid until the next)
   std::unique_ptr<DirectSolver> direct;  ///< the fallback, made on first use
   bool direct_ready = false;             ///< the fallback holds the present matrix
+
+  // The LU first (KrylovSolver::set_operator).
+  bool gmres_matrix = false;  ///< the present matrix was set up for GMRES
+  bool stagnated = false;     ///< and one of its solves went to the LU
+  int lu_first_left = 0;      ///< matrices still to send to the LU without a GMRES attempt
+  int lu_run = 1;             ///< how many the next stagnation sends
+
+  /// Called before each new matrix: after a matrix whose GMRES stagnated,
+  /// the next lu_run matrices go to the LU, and lu_run doubles for the
+  /// next time (up to kLongestLuRun); a GMRES matrix that did not
+  /// stagnate sets it back to one.
+  void plan_lu_first() {
+    if (!gmres_matrix) return;
+    if (stagnated) {
+      lu_first_left = lu_run;
+      lu_run = std::min(2 * lu_run, kLongestLuRun);
+    } else {
+      lu_run = 1;
+    }
+  }
+
+  void factorize_lu(Timings* timings) {
+    if (!direct) {
+      direct = std::make_unique<DirectSolver>();
+      direct->set_timings(timings);
+    }
+    direct->set_operator(*last);
+    direct_ready = true;
+  }
 
   ~Petsc() { destroy(); }
 
@@ -283,15 +317,32 @@ std::string KrylovSolver::name() const {
 void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
 
 void KrylovSolver::reset() {
-  petsc_->make_ksp();  // a new KSP keeps no interpolation
+  Petsc& p = *petsc_;
+  p.make_ksp();  // a new KSP keeps no interpolation
+  p.gmres_matrix = p.stagnated = false;
+  p.lu_first_left = 0;
+  p.lu_run = 1;
 }
 
 void KrylovSolver::set_operator(const SparseMatrix& M) {
-  ScopedTimer timer(clock(&Timings::linear_setup));
-  count(&Timings::linear_setups);
   Petsc& p = *petsc_;
+  p.plan_lu_first();
   p.last = &M;
   p.direct_ready = false;
+  p.stagnated = false;
+  // Newton's tangents follow one another closely: after one whose GMRES
+  // stagnated, the next ones are likely to stagnate too, and each attempt
+  // would cost a preconditioner and a restart cycle before the LU it ends
+  // in. Those go to the LU first (timed and counted as its set-ups).
+  p.gmres_matrix = p.lu_first_left == 0;
+  if (!p.gmres_matrix) {
+    --p.lu_first_left;
+    count(&Timings::lu_first);
+    p.factorize_lu(timings_);
+    return;
+  }
+  ScopedTimer timer(clock(&Timings::linear_setup));
+  count(&Timings::linear_setups);
   if (!p.A || !p.same_pattern(M)) {
     // A new pattern needs a new ordering and symbolic factorization (or a
     // new GAMG hierarchy): the PC keeps them while the matrix is the same.
@@ -341,6 +392,7 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
   // robustness first, counted as a fallback.
   if (reason < 0 && residual > 2.0 * tolerance * rhs.norm() && residual > 1e-6 * rhs.norm()) {
     if (timings_) ++timings_->linear_fallbacks;
+    p.stagnated = true;
     return fallback(rhs, out);
   }
   const PetscScalar* r = nullptr;
@@ -354,14 +406,7 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
 
 LinearSolve KrylovSolver::fallback(const Eigen::VectorXd& rhs, Eigen::VectorXd& out) {
   Petsc& p = *petsc_;
-  if (!p.direct) {
-    p.direct = std::make_unique<DirectSolver>();
-    p.direct->set_timings(timings_);
-  }
-  if (!p.direct_ready) {
-    p.direct->set_operator(*p.last);
-    p.direct_ready = true;
-  }
+  if (!p.direct_ready) p.factorize_lu(timings_);
   return p.direct->solve(rhs, out, 0.0);
 }
 

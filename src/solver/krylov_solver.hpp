@@ -11,7 +11,11 @@
 /// UMFPACK LU for that matrix (Timings::linear_fallbacks counts them). It
 /// is found at the end of a restart cycle: if the cycle's reduction of the
 /// residual, kept up, would not reach the tolerance within the iteration
-/// limit, the solve ends there instead of running to the limit.
+/// limit, the solve ends there instead of running to the limit. After
+/// such a matrix the next one goes to the LU without a GMRES attempt
+/// (Timings::lu_first counts them), then after each attempt that
+/// stagnates again twice as many, up to 32; an attempt that converges
+/// ends the run.
 /// PETSc objects are hidden here (pimpl): nothing above this layer sees a
 /// PETSc header. One process for now (PETSC_COMM_SELF).
 #include <memory>

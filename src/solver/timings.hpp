@@ -16,6 +16,7 @@ struct Timings {
   long long linear_iterations = 0;  ///< Krylov iterations (direct: one per solve)
   long long linear_solves = 0;
   int linear_fallbacks = 0;     ///< Krylov solves that stagnated and were redone by the LU
+  int lu_first = 0;             ///< matrices sent to the LU without a Krylov attempt, after a stagnation
 };
 
 /// Adds the lifetime of the scope to a counter.

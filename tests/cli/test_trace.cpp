@@ -106,9 +106,8 @@ TEST(Trace, SummaryKeepsEveryEarlierKey) {
   EXPECT_GT(j.at("unknowns").get<int>(), 0);
   for (const char* key : {"wall_seconds", "mean_newton_iterations", "energy_drift", "max_activation_gap", "min_dt"})
     EXPECT_TRUE(j.at(key).is_number()) << key;
-  for (const char* key :
-       {"max_newton_iterations", "activations", "releases", "linear_setups", "linear_solves", "linear_iterations",
-        "symbolic_analyses", "cutbacks"})
+  for (const char* key : {"max_newton_iterations", "activations", "releases", "linear_setups", "linear_solves",
+                          "linear_iterations", "linear_fallbacks", "lu_first", "symbolic_analyses", "cutbacks"})
     EXPECT_TRUE(j.at(key).is_number_integer()) << key;
   for (const char* key : {"linear_drift", "angular_drift"}) EXPECT_EQ(j.at(key).size(), 3u) << key;
   EXPECT_TRUE(j.at("linear_solver").is_string());

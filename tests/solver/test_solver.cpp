@@ -178,6 +178,57 @@ TEST(KrylovSolver, ASolveThatCannotReachItsToleranceInTimeGoesToTheLuAfterOneCyc
   EXPECT_LE(steady_residual, 1e-12 * 1.01);
 }
 
+/// After a matrix whose GMRES stagnated, the matrices that follow in the
+/// same run go to the LU without a GMRES attempt: one, then after each
+/// attempt that stagnates again twice as many (Newton's next tangents are
+/// close to the last one, and on §6.1's spinning discs most of them
+/// stagnate, docs/validation.md §7). An attempt that converges ends it:
+/// the next stagnation sends one matrix again. reset() forgets it all,
+/// like an unbroken run restarted from a checkpoint. The hard matrix is
+/// the 120 × 120 Laplacian to 1e-12 (stagnates, above), the easy one the
+/// 30 × 30 grid (converges).
+TEST(KrylovSolver, AfterAStagnationTheNextMatricesGoToTheLuFirstUntilGmresConvergesAgain) {
+  const SparseMatrix hard = grid_matrix(120, 0.0), easy = grid_matrix(30, 0.0);
+  Timings t;
+  KrylovSolver s(Preconditioner::ilu, LinearSolverSettings{});
+  s.set_timings(&t);
+  // One matrix and two solves with it; what the second matrix did.
+  enum class Went { gmres, stagnated, lu_first };
+  auto next = [&](const SparseMatrix& A) {
+    const int fallbacks = t.linear_fallbacks;
+    const long long iterations = t.linear_iterations;
+    const int first = t.lu_first;
+    s.set_operator(A);
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 2.0);
+    Eigen::VectorXd x;
+    for (int k = 0; k < 2; ++k) {
+      s.solve((k + 1.0) * b, x, 1e-12);
+      EXPECT_LE((A * x - (k + 1.0) * b).norm(), 1e-12 * 1.01 * (k + 1.0) * b.norm());
+    }
+    if (t.lu_first > first) {
+      EXPECT_EQ(t.linear_iterations - iterations, 2);  // the two LU solves, no GMRES
+      EXPECT_EQ(t.linear_fallbacks, fallbacks);
+      return Went::lu_first;
+    }
+    return t.linear_fallbacks > fallbacks ? Went::stagnated : Went::gmres;
+  };
+  using enum Went;
+  EXPECT_EQ(next(easy), gmres);
+  EXPECT_EQ(next(hard), stagnated);
+  EXPECT_EQ(next(hard), lu_first);   // one
+  EXPECT_EQ(next(hard), stagnated);  // the attempt after it
+  EXPECT_EQ(next(hard), lu_first);   // two
+  EXPECT_EQ(next(hard), lu_first);
+  EXPECT_EQ(next(easy), gmres);  // the attempt converges: the run is over
+  EXPECT_EQ(next(hard), stagnated);
+  EXPECT_EQ(next(hard), lu_first);  // one again
+  EXPECT_EQ(next(easy), gmres);
+  EXPECT_EQ(next(hard), stagnated);
+  s.reset();
+  EXPECT_EQ(next(hard), stagnated);  // reset: no LU run pending
+  EXPECT_EQ(t.lu_first, 4);
+}
+
 /// The largest |i − j| over the graph's edges once vertex order[k] is k.
 int bandwidth(const std::vector<int>& offsets, const std::vector<int>& neighbours, const std::vector<int>& order) {
   std::vector<int> position(order.size());
