@@ -101,8 +101,8 @@ struct KrylovSolver::Petsc {
   bool direct_ready = false;             ///< the fallback holds the present matrix
 
   // The LU first (KrylovSolver::set_operator).
-  bool gmres_matrix = false;  ///< the present matrix was set up for GMRES
-  bool stagnated = false;     ///< and one of its solves went to the LU
+  bool gmres_matrix = false;  ///< the present matrix was set up for GMRES (then direct_ready
+                              ///< tells that one of its solves stagnated and went to the LU)
   int lu_first_left = 0;      ///< matrices still to send to the LU without a GMRES attempt
   int lu_run = 1;             ///< how many the next stagnation sends
 
@@ -112,7 +112,7 @@ struct KrylovSolver::Petsc {
   /// stagnate sets it back to one.
   void plan_lu_first() {
     if (!gmres_matrix) return;
-    if (stagnated) {
+    if (direct_ready) {
       lu_first_left = lu_run;
       lu_run = std::min(2 * lu_run, kLongestLuRun);
     } else {
@@ -319,7 +319,7 @@ void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
 void KrylovSolver::reset() {
   Petsc& p = *petsc_;
   p.make_ksp();  // a new KSP keeps no interpolation
-  p.gmres_matrix = p.stagnated = false;
+  p.gmres_matrix = false;
   p.lu_first_left = 0;
   p.lu_run = 1;
 }
@@ -329,7 +329,6 @@ void KrylovSolver::set_operator(const SparseMatrix& M) {
   p.plan_lu_first();
   p.last = &M;
   p.direct_ready = false;
-  p.stagnated = false;
   // Newton's tangents follow one another closely: after one whose GMRES
   // stagnated, the next ones are likely to stagnate too, and each attempt
   // would cost a preconditioner and a restart cycle before the LU it ends
@@ -392,7 +391,6 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
   // robustness first, counted as a fallback.
   if (reason < 0 && residual > 2.0 * tolerance * rhs.norm() && residual > 1e-6 * rhs.norm()) {
     if (timings_) ++timings_->linear_fallbacks;
-    p.stagnated = true;
     return fallback(rhs, out);
   }
   const PetscScalar* r = nullptr;
