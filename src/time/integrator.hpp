@@ -40,6 +40,8 @@ class Integrator {
   /// an impact is not taken either: the report is not converged and
   /// contact_stats().split_fraction < 1 tells where the step should end;
   /// the caller restores the active set and steps again with that Δt.
+  /// That shorter step starts from the longer one's last iterate (its
+  /// correction to the predictor, scaled by the ratio of the steps).
   solver::NewtonReport step(model::State& state, double dt);
 
   /// Forgets the matrix kept for reuse (modified Newton) and what the
@@ -85,6 +87,14 @@ class Integrator {
   std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;
   solver::Timings timings_;
+  /// The last iterate of a step that was not taken because it met an
+  /// impact (step()), which starts the shorter step from the same state.
+  struct Interrupted {
+    std::int64_t step = -1;      ///< the state's step it started from; −1: none
+    double dt = 0.0;             ///< its Δt [s]
+    Eigen::VectorXd correction;  ///< its last iterate u_{n+1} − its predictor [m]
+  };
+  Interrupted interrupted_;
   bool plain_factorization_ = false;  ///< the solver holds a factorization of the unreduced system
   double nonlinearity_ = -1.0;        ///< the forcing terms' measure of the last solve (solver/newton.hpp)
 
