@@ -133,7 +133,7 @@ template <int D>
 std::optional<Match<D>> ActiveSet<D>::search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
                                              const Vec<D>& slave_normal, const Positions<D>* x_n) const {
   const int s = pair.slave.nodes[i];
-  const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal);
+  const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal, &pair.frames);
   if (!match) return std::nullopt;
   if (over_surface<D>(x.col(s), *match, pair.master, x, pair.search.border_tolerance)) return match;
   if (x_n && entered_through<D>(pair, s, *match, *x_n, x)) return match;
@@ -146,6 +146,7 @@ void ActiveSet<D>::for_each_match(const Positions<D>& x, Visit&& visit, const Po
   for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
     ContactPair<D>& pair = pairs_[p];
     pair.tree.refit(x);
+    pair.frames.reset(pair.master.num_facets());
     const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
     for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
       const int s = pair.slave.nodes[i];
@@ -462,6 +463,7 @@ ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u, const Eigen::Vect
   std::vector<std::vector<Vec<D>>> normals;
   for (ContactPair<D>& pair : pairs_) {
     pair.tree.refit(x);
+    pair.frames.reset(pair.master.num_facets());
     normals.push_back(node_normals<D>(pair.slave, x));
   }
   ActiveGaps gaps{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};

@@ -34,6 +34,7 @@ struct ContactPair {
   Kind kind = Kind::frictionless;
   SearchSettings search;
   FacetTree<D> tree;  ///< over master facets, refitted before each search
+  mutable FacetFrames<D> frames;  ///< of master facets, a cache reset with each refit
 };
 
 /// One active constraint: slave node s tied to a master facet. The

@@ -40,20 +40,39 @@ Vec<D> facet_normal(const FacetNodes<D>& x) {
 }
 
 template <int D>
-Projection<D> project(const Vec<D>& x_s, const FacetNodes<D>& x) {
+FacetFrame<D> facet_frame(const FacetNodes<D>& x) {
+  FacetFrame<D> f;
+  f.origin = x.col(0);
+  f.tangents = facet_tangents<D>(x);
+  f.normal = facet_normal<D>(x);
+  const Mat<D - 1> G = f.tangents.transpose() * f.tangents;  // metric
+  f.inverse_metric = G.inverse();
+  return f;
+}
+
+template <int D>
+Projection<D> project(const Vec<D>& x_s, const FacetFrame<D>& f) {
   Projection<D> p;
-  p.tangents = facet_tangents<D>(x);
-  p.normal = facet_normal<D>(x);
-  const Mat<D - 1> G = p.tangents.transpose() * p.tangents;  // metric
-  p.xi = G.inverse() * (p.tangents.transpose() * (x_s - x.col(0)));
-  p.point = x.col(0) + p.tangents * p.xi;
+  p.tangents = f.tangents;
+  p.normal = f.normal;
+  p.xi = f.inverse_metric * (f.tangents.transpose() * (x_s - f.origin));
+  p.point = f.origin + f.tangents * p.xi;
   p.gap = (x_s - p.point).dot(p.normal);
   return p;
 }
 
 template <int D>
+Projection<D> project(const Vec<D>& x_s, const FacetNodes<D>& x) {
+  return project<D>(x_s, facet_frame<D>(x));
+}
+
+template <int D>
 std::pair<Xi<D>, double> closest_point_on_facet(const Vec<D>& x_s, const FacetNodes<D>& x) {
-  const Projection<D> p = project<D>(x_s, x);
+  return closest_point_on_facet<D>(x_s, x, project<D>(x_s, x));
+}
+
+template <int D>
+std::pair<Xi<D>, double> closest_point_on_facet(const Vec<D>& x_s, const FacetNodes<D>& x, const Projection<D>& p) {
   if (p.inside()) return {p.xi, (x_s - p.point).norm()};
   // The nearest point lies on the border: the best point of each edge.
   std::pair<Xi<D>, double> best{Xi<D>::Zero(), std::numeric_limits<double>::infinity()};
@@ -136,13 +155,17 @@ Eigen::Matrix<double, D*(D - 1), kPairDofs<D>> tangents_gradient() {
   return J;
 }
 
-#define CONSERVE_INSTANTIATE(D)                                                                                 \
-  template Vec<D> facet_normal<D>(const FacetNodes<D>&);                                                        \
-  template Projection<D> project<D>(const Vec<D>&, const FacetNodes<D>&);                                       \
-  template std::pair<Xi<D>, double> closest_point_on_facet<D>(const Vec<D>&, const FacetNodes<D>&);             \
-  template PairGradient<D> gap_gradient<D>(const Vec<D>&, const FacetNodes<D>&);                                \
-  template Eigen::Matrix<double, D - 1, kPairDofs<D>> xi_gradient<D>(const Vec<D>&, const FacetNodes<D>&);      \
-  template Eigen::Matrix<double, D, kPairDofs<D>> normal_gradient<D>(const FacetNodes<D>&);                     \
+#define CONSERVE_INSTANTIATE(D)                                                                            \
+  template Vec<D> facet_normal<D>(const FacetNodes<D>&);                                                   \
+  template Projection<D> project<D>(const Vec<D>&, const FacetNodes<D>&);                                  \
+  template FacetFrame<D> facet_frame<D>(const FacetNodes<D>&);                                             \
+  template Projection<D> project<D>(const Vec<D>&, const FacetFrame<D>&);                                  \
+  template std::pair<Xi<D>, double> closest_point_on_facet<D>(const Vec<D>&, const FacetNodes<D>&);        \
+  template std::pair<Xi<D>, double> closest_point_on_facet<D>(const Vec<D>&, const FacetNodes<D>&,         \
+                                                              const Projection<D>&);                       \
+  template PairGradient<D> gap_gradient<D>(const Vec<D>&, const FacetNodes<D>&);                           \
+  template Eigen::Matrix<double, D - 1, kPairDofs<D>> xi_gradient<D>(const Vec<D>&, const FacetNodes<D>&); \
+  template Eigen::Matrix<double, D, kPairDofs<D>> normal_gradient<D>(const FacetNodes<D>&);                \
   template Eigen::Matrix<double, D*(D - 1), kPairDofs<D>> tangents_gradient<D>();
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)

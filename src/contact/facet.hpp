@@ -4,6 +4,8 @@
 /// (ALGORITHM.md §3, paper (27)–(29)). Free functions in derivative
 /// families: value, `_gradient` (with respect to y = (x_s, x_0, …, x_{D−1}),
 /// D(D+1) entries, slave first).
+#include <vector>
+
 #include "core/types.hpp"
 
 namespace conserve::contact {
@@ -64,10 +66,51 @@ struct Projection {
 template <int D>
 Projection<D> project(const Vec<D>& x_s, const FacetNodes<D>& x);
 
+/// What project() needs of a facet besides the slave: its first node, τ,
+/// n and the inverse metric (τᵀτ)⁻¹. Kept per facet while the nodes do
+/// not move, it makes a projection a few dot products.
+template <int D>
+struct FacetFrame {
+  Vec<D> origin = Vec<D>::Zero();
+  Tangents<D> tangents = Tangents<D>::Zero();
+  Vec<D> normal = Vec<D>::Zero();
+  Mat<D - 1> inverse_metric = Mat<D - 1>::Zero();
+};
+template <int D>
+FacetFrame<D> facet_frame(const FacetNodes<D>& x);
+/// project() on a frame: the same numbers, bit for bit.
+template <int D>
+Projection<D> project(const Vec<D>& x_s, const FacetFrame<D>& frame);
+
+/// The frames of a surface's facets at the positions of one search, each
+/// made on its first use.
+template <int D>
+class FacetFrames {
+ public:
+  /// Forgets them all (the nodes moved): `facets` facets.
+  void reset(int facets) {
+    ready_.assign(static_cast<std::size_t>(facets), 0);
+    frames_.resize(static_cast<std::size_t>(facets));
+  }
+  /// Facet f's frame, from its nodes x if not made since reset().
+  const FacetFrame<D>& get(int f, const FacetNodes<D>& x) {
+    const auto k = static_cast<std::size_t>(f);
+    if (!ready_[k]) frames_[k] = facet_frame<D>(x), ready_[k] = 1;
+    return frames_[k];
+  }
+
+ private:
+  std::vector<FacetFrame<D>> frames_;
+  std::vector<char> ready_;
+};
+
 /// The point of the closed facet nearest to x_s (clamped to its edges and
 /// vertices): its ξ (inside the facet) and the distance [m].
 template <int D>
 std::pair<Xi<D>, double> closest_point_on_facet(const Vec<D>& x_s, const FacetNodes<D>& x);
+/// The same, given x_s's projection p on the facet.
+template <int D>
+std::pair<Xi<D>, double> closest_point_on_facet(const Vec<D>& x_s, const FacetNodes<D>& x, const Projection<D>& p);
 
 /// ∂g_N/∂y.
 template <int D>

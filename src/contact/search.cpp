@@ -35,7 +35,7 @@ struct NearestChoice {
   double size = 0.0;
 
   void offer(int facet, const Projection<D>& p, const Vec<D>& x_s, const FacetNodes<D>& x, double facet_size) {
-    const auto [xi, dist] = closest_point_on_facet<D>(x_s, x);
+    const auto [xi, dist] = closest_point_on_facet<D>(x_s, x, p);
     const Vec<D> offset = x_s - x * facet_shape<D>(xi);
     const double norm = offset.norm();
     const double align = norm > 0.0 ? offset.dot(p.normal) / norm : 1.0;
@@ -71,14 +71,14 @@ FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<
 template <int D>
 std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& surface, const FacetTree<D>& tree,
                                     const Positions<D>& x, const SearchSettings& settings,
-                                    const std::optional<Vec<D>>& slave_normal) {
+                                    const std::optional<Vec<D>>& slave_normal, FacetFrames<D>* frames) {
   std::vector<int> candidates;
   tree.query(x_s, settings.search_distance, candidates);
   InsideChoice<D> inside;
   NearestChoice<D> nearest;
   for (const int f : candidates) {
     const FacetNodes<D> nodes = facet_nodes<D>(surface, f, x);
-    const Projection<D> p = project<D>(x_s, nodes);
+    const Projection<D> p = frames ? project<D>(x_s, frames->get(f, nodes)) : project<D>(x_s, nodes);
     if (slave_normal && p.normal.dot(*slave_normal) > 0.0) continue;  // both face the same way
     const double size = longest_edge<D>(nodes);
     if (p.gap < -settings.depth_factor * size) continue;  // far side
@@ -155,7 +155,7 @@ std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<
   template FacetNodes<D> facet_nodes<D>(const ContactSurface&, int, const Positions<D>&);                            \
   template std::optional<Match<D>> find_master<D>(const Vec<D>&, const ContactSurface&, const FacetTree<D>&,         \
                                                   const Positions<D>&, const SearchSettings&,                        \
-                                                  const std::optional<Vec<D>>&);                                     \
+                                                  const std::optional<Vec<D>>&, FacetFrames<D>*);                    \
   template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double);   \
   template bool over_surface<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double); \
   template std::vector<Vec<D>> node_normals<D>(const ContactSurface&, const Positions<D>&);

@@ -48,7 +48,8 @@ FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<
 template <int D>
 std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& surface, const FacetTree<D>& tree,
                                     const Positions<D>& x, const SearchSettings& settings,
-                                    const std::optional<Vec<D>>& slave_normal = std::nullopt);
+                                    const std::optional<Vec<D>>& slave_normal = std::nullopt,
+                                    FacetFrames<D>* frames = nullptr);
 
 /// Whether x_s, matched to `m` by find_master (surface at positions x),
 /// lies over the surface: its projection is inside the facet up to `tol`

@@ -365,3 +365,79 @@ TEST(Search, NodeNormalsAreUnitAndOutward) {
 
 }  // namespace
 }  // namespace conserve::contact
+
+namespace conserve::contact {
+namespace {
+
+/// Random points around a surface, both sides and beyond its facets' sides,
+/// within the search distance of many facets.
+template <int D>
+std::vector<Vec<D>> points_around(const Scene<D>& scene, int count, double spread) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> pick(0, scene.surface.num_facets() - 1);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Vec<D>> points;
+  for (int k = 0; k < count; ++k) {
+    const Vec<D> c = facet_nodes<D>(scene.surface, pick(rng), scene.model.X).rowwise().mean();
+    Vec<D> offset;
+    for (int i = 0; i < D; ++i) offset(i) = spread * u(rng);
+    points.push_back(c + offset);
+  }
+  return points;
+}
+
+/// find_master with the facets' frames kept across a search (made once per
+/// facet) gives the matches of the projection from the nodes, bit for bit;
+/// frames left from other positions (the control) do not.
+template <int D>
+void frames_give_the_same_matches(const Scene<D>& scene) {
+  const SearchSettings settings = settings_with(0.15);
+  const std::vector<Vec<D>> points = points_around<D>(scene, 2000, 0.1);
+  FacetFrames<D> frames;
+  frames.reset(scene.surface.num_facets());
+  int matched = 0, outside = 0;
+  for (const Vec<D>& x_s : points) {
+    const auto plain = find_master<D>(x_s, scene.surface, scene.tree, scene.model.X, settings);
+    const auto framed = find_master<D>(x_s, scene.surface, scene.tree, scene.model.X, settings, std::nullopt, &frames);
+    ASSERT_EQ(plain.has_value(), framed.has_value());
+    if (!plain) continue;
+    ++matched;
+    if (!plain->projection.inside()) ++outside;
+    EXPECT_EQ(plain->facet, framed->facet);
+    EXPECT_EQ(plain->projection.gap, framed->projection.gap);  // exactly
+    EXPECT_EQ(plain->projection.xi, framed->projection.xi);
+    EXPECT_EQ(plain->projection.normal, framed->projection.normal);
+  }
+  std::printf("[ measured ] %dD: %d of %zu points matched (%d outside their facet), the same bit for bit\n", D, matched,
+              points.size(), outside);
+  ASSERT_GT(matched, 1000);
+  ASSERT_GT(outside, 10);
+  // The control: frames of the surface moved by 1 % of its size, not reset.
+  const Positions<D> moved = 1.01 * scene.model.X;
+  FacetFrames<D> stale;
+  stale.reset(scene.surface.num_facets());
+  for (const Vec<D>& x_s : points)
+    (void)find_master<D>(x_s, scene.surface, scene.tree, moved, settings, std::nullopt, &stale);
+  int differ = 0;
+  for (const Vec<D>& x_s : points) {
+    const auto plain = find_master<D>(x_s, scene.surface, scene.tree, scene.model.X, settings);
+    const auto framed = find_master<D>(x_s, scene.surface, scene.tree, scene.model.X, settings, std::nullopt, &stale);
+    if (plain && framed && plain->projection.gap != framed->projection.gap) ++differ;
+  }
+  EXPECT_GT(differ, 100);
+}
+
+TEST(Search, FramesKeptAcrossASearchGiveTheSameMatchesBitForBit3d) {
+  const Scene<3> scene(
+      mesh::generate_mesh("spherical_shell", {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.1}}), "outer");
+  frames_give_the_same_matches<3>(scene);
+}
+
+TEST(Search, FramesKeptAcrossASearchGiveTheSameMatchesBitForBit2d) {
+  const Scene<2> scene(mesh::generate_mesh("annulus", {{"inner_radius", 0.5}, {"outer_radius", 1.0}, {"size", 0.1}}),
+                       "outer");
+  frames_give_the_same_matches<2>(scene);
+}
+
+}  // namespace
+}  // namespace conserve::contact
