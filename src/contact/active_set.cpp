@@ -145,8 +145,7 @@ template <class Visit>
 void ActiveSet<D>::for_each_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n) {
   for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
     ContactPair<D>& pair = pairs_[p];
-    pair.tree.refit(x);
-    pair.frames.reset(pair.master.num_facets());
+    pair.refit(x);
     const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
     for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
       const int s = pair.slave.nodes[i];
@@ -462,8 +461,7 @@ ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u, const Eigen::Vect
   const Positions<D> x_n = u_n ? positions(*u_n) : Positions<D>();
   std::vector<std::vector<Vec<D>>> normals;
   for (ContactPair<D>& pair : pairs_) {
-    pair.tree.refit(x);
-    pair.frames.reset(pair.master.num_facets());
+    pair.refit(x);
     normals.push_back(node_normals<D>(pair.slave, x));
   }
   ActiveGaps gaps{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};

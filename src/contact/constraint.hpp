@@ -33,8 +33,16 @@ struct ContactPair {
   ContactSurface master;
   Kind kind = Kind::frictionless;
   SearchSettings search;
-  FacetTree<D> tree;  ///< over master facets, refitted before each search
-  mutable FacetFrames<D> frames;  ///< of master facets, a cache reset with each refit
+  FacetTree<D> tree;              ///< over master facets, refitted (refit) before each search
+  mutable FacetFrames<D> frames;  ///< of master facets at the tree's positions, filled as searched
+
+  /// Moves the search to positions x: the tree is refitted and the facets'
+  /// frames, which belong to the old positions, are dropped. The only way
+  /// the search's positions change, so the two cannot disagree.
+  void refit(const Positions<D>& x) {
+    tree.refit(x);
+    frames.reset(master.num_facets());
+  }
 };
 
 /// One active constraint: slave node s tied to a master facet. The

@@ -213,12 +213,15 @@ void OutputWriter<D>::write_contact_state(const model::State& state) const {
   const contact::Positions<D> x = model.X + state.u.reshaped(D, model.num_nodes());
   const auto& pairs = contacts_->pairs();
   for (std::size_t p = 0; p < pairs.size(); ++p) {
-    const auto& pair = pairs[p];
+    // A copy moved to x: the pair's own tree is at the positions of the
+    // last search, which need not be this state's.
+    contact::ContactPair<D> pair = pairs[p];
+    pair.refit(x);
     const std::vector<Vec<D>> normals = contact::node_normals<D>(pair.slave, x);
     std::vector<std::optional<contact::Match<D>>> matches;
     for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
-      matches.push_back(
-          contact::find_master<D>(x.col(pair.slave.nodes[i]), pair.master, pair.tree, x, pair.search, normals[i]));
+      matches.push_back(contact::find_master<D>(x.col(pair.slave.nodes[i]), pair.master, pair.tree, x, pair.search,
+                                                normals[i], &pair.frames));
     contact::write_contact_state_vtu<D>(directory_ / fmt::format("vtu/contact_{:06d}_pair{}.vtu", state.step, p),
                                         pair.slave.nodes, x, matches);
   }
