@@ -51,6 +51,12 @@ void print_summary(const RunSummary& s) {
         "active gaps {:.3e} to {:.3e} m; deepest penetration {:.3e} m\n",
         s.activations, s.releases, s.held, s.max_activation_gap, s.min_active_gap, s.max_active_gap,
         s.max_penetration);
+  if (s.pushes_given_up > 0)
+    fmt::print(
+        "contact: {} push-out(s) given up, their work more than the bodies could give back: slaves that came in "
+        "behind a master beyond its border, through a face that is no master, were held where they were (down to "
+        "{:.3e} m); history.csv's pushes_given_up says when. Make those faces masters too.\n",
+        s.pushes_given_up, s.min_active_gap);
   fmt::print("output: {}/history.csv, {}/solution.pvd\n", s.output_directory.string(), s.output_directory.string());
 }
 

@@ -14,6 +14,7 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
       pairs_(std::move(pairs)),
       released_(model.num_nodes(), 0),
       held_(model.num_nodes(), 0),
+      given_up_(model.num_nodes(), 0),
       prescribed_(model.num_nodes(), 0) {
   for (int d : model.prescribed.dofs) prescribed_[d / D] = 1;
   const Positions<D> x = model.X;
@@ -76,6 +77,7 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
   if (!gap_tolerance_.empty()) dt_ = dt, v_n_ = v_n;
   std::fill(released_.begin(), released_.end(), 0);
   std::fill(held_.begin(), held_.end(), 0);
+  std::fill(given_up_.begin(), given_up_.end(), 0);
   step_ = step;
   double sum = 0.0;
   for (Constraint<D>& c : active_) {
@@ -83,8 +85,11 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
     sum += c.normal_force;
     // A slave held behind its facet (the second constraint of a slave on
     // two surfaces keeps its start gap; its first has been released) is
-    // pushed out in this step, as at its activation (make_constraint).
-    if (c.kind == Kind::frictionless && c.gap < 0.0 && count_[c.slave] == 1) c.gap = 0.0, c.push = true;
+    // pushed out in this step, as at its activation (make_constraint),
+    // unless a push-out of it was given up (hold).
+    c.push = c.kind == Kind::frictionless && c.gap < 0.0 && count_[c.slave] == 1 && !c.hold;
+    if (c.push) c.gap = 0.0;
+    if (c.hold) given_up_[c.slave] = 1;
   }
   start_mean_force_ = active_.empty() ? 0.0 : sum / static_cast<double>(active_.size());
 }
@@ -174,7 +179,7 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
     Constraint<D>& c = active_[k];
     if (!c.rate) continue;
     end_gap[k] = project<D>(x_np1.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_np1)).gap;
-    if (end_gap[k] < 0.0 && c.kind == Kind::frictionless && count_[c.slave] == 1)
+    if (end_gap[k] < 0.0 && c.kind == Kind::frictionless && count_[c.slave] == 1 && !c.hold)
       c.rate = false, c.gap = 0.0, c.push = pushed = true;
   }
   if (pushed) return SetChange::changed;
@@ -186,9 +191,24 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
     c.rate = false;
     ++stats.rate_steps;
   }
-  for (Constraint<D>& c : active_)
-    if (c.push) c.push = false, ++stats.pushes;
+  stats.pushes =
+      static_cast<int>(std::count_if(active_.begin(), active_.end(), [](const Constraint<D>& c) { return c.push; }));
   return SetChange::none;
+}
+
+template <int D>
+int ActiveSet<D>::hold_pushes(const Eigen::VectorXd& u_n) {
+  const Positions<D> x_n = positions(u_n);
+  int held = 0;
+  for (Constraint<D>& c : active_) {
+    if (!c.push) continue;
+    c.push = false;
+    c.hold = true;
+    given_up_[c.slave] = 1;
+    c.gap = project<D>(x_n.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_n)).gap;
+    ++held;
+  }
+  return held;
 }
 
 template <int D>
@@ -388,8 +408,10 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
 // non-rigid motion of the constraint's nodes as large as the push-out: a
 // push-out alone is met by a force direction ā with ā_s·n = 0 exactly
 // (contact/zero_work.hpp), a tangential force Newton cannot balance
-// (docs/validation.md, §6.2). The slave stays as far behind as it started
-// while it is held; the history's min_active_gap shows it.
+// (docs/validation.md, §6.2). Otherwise the paper's force pushes it out
+// (Constraint::push), unless a push-out of it was given up (hold_pushes):
+// then, as a slave's second constraint, it is held as far behind as it
+// started; the history's min_active_gap shows it.
 template <int D>
 Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                             const Positions<D>& x_np1) const {
@@ -411,10 +433,13 @@ Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, c
   // non-rigid motion can carry it, else by the paper's force (push), whose
   // work the velocity update after the step takes back. The second
   // constraint of a slave on two surfaces has no such force (its pair's
-  // forces are always the zero-work ones): it keeps its start gap.
+  // forces are always the zero-work ones): it keeps its start gap, and so
+  // does a slave whose push-out was given up (given_up_).
   if (c.kind == Kind::frictionless && start.gap < 0.0) {
     if (-start.gap <= push_out(c, x_n, x_np1)) {
       c.gap = 0.0;
+    } else if (given_up_[s]) {
+      c.hold = true;
     } else if (count_[s] == 0) {
       c.gap = 0.0;
       c.push = true;

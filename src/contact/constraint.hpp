@@ -84,8 +84,16 @@ struct Constraint {
   /// paper's normal force a (no zero-work correction). That force does
   /// work, which the velocity update after the step takes back out of the
   /// bodies' deformation (PersistentVelocity::restore_energy), so E, L and
-  /// J are kept. Cleared when the step is taken (ActiveSet::update).
+  /// J are kept. Cleared when the next step begins (ActiveSet::begin_step);
+  /// given up, for good, if the work cannot be taken back (hold).
   bool push = false;
+  /// Frictionless: never pushed out, held at γ (< 0 when behind) for as
+  /// long as it stays active, as the paper's scheme holds every slave. Set
+  /// when a push-out's work was more than the bodies' deformation velocity
+  /// could give back (ActiveSet::hold_pushes): a slave that came in beyond
+  /// the master surface's border, through a face that is no master, can be
+  /// any depth behind it, and no step is short enough to push it out.
+  bool hold = false;
   /// The step the slave was activated in (its first step in contact).
   std::int64_t activated_step = 0;
   /// f_N = g_s·n_{n+½} at the last update of the active set [N], and at

@@ -23,8 +23,10 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// under the rate condition (48) in the run's totals. 6: no end of a cut
 /// step (the steps after one go on at the full Δt). 7: the push-outs and
 /// their work in the run's totals. 8: the crease pairs formed
-/// (contact::ActiveSet::crease) in the run's totals.
-constexpr std::uint32_t kVersion = 8;
+/// (contact::ActiveSet::crease) in the run's totals. 9: the constraints'
+/// given-up push-outs (contact::Constraint::hold) and their count in the
+/// run's totals.
+constexpr std::uint32_t kVersion = 9;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -102,6 +104,7 @@ void write_constraint(Writer& w, const contact::Constraint<D>& c) {
   w.value(c.gap);
   w.value(static_cast<std::int64_t>(c.activated_step));
   w.value(c.normal_force);
+  w.value(static_cast<std::int32_t>(c.hold));
 }
 
 template <int D>
@@ -118,10 +121,13 @@ contact::Constraint<D> read_constraint(Reader& r, int num_nodes) {
   c.gap = r.template value<double>();
   c.activated_step = r.template value<std::int64_t>();
   c.normal_force = r.template value<double>();
+  const auto hold = r.template value<std::int32_t>();
   bool nodes_ok = c.slave >= 0 && c.slave < num_nodes;
   for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
-  if (!nodes_ok || (kind != 0 && kind != 1)) r.fail("a contact constraint names a node out of range");
+  if (!nodes_ok || (kind != 0 && kind != 1) || (hold != 0 && hold != 1))
+    r.fail("a contact constraint is malformed (a node out of range, or an unknown kind or flag)");
   c.kind = static_cast<contact::Kind>(kind);
+  c.hold = hold == 1;
   return c;
 }
 
@@ -142,6 +148,7 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(static_cast<std::int64_t>(t.pushes));
   w.value(static_cast<std::int64_t>(t.creases));
   w.value(t.push_work);
+  w.value(static_cast<std::int64_t>(t.pushes_given_up));
   w.value(t.max_activation_gap);
   for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
                    t.min_det_F})
@@ -166,6 +173,7 @@ RunTotals read_totals(Reader& r) {
   t.pushes = r.value<std::int64_t>();
   t.creases = r.value<std::int64_t>();
   t.push_work = r.value<double>();
+  t.pushes_given_up = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
   for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
                     &t.max_penetration, &t.min_det_F})
@@ -220,6 +228,7 @@ void RunTotals::add(const contact::StepContactStats& c) {
   pushes += c.pushes;
   creases += c.creases;
   push_work += c.push_work;
+  pushes_given_up += c.pushes_given_up;
   max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
   max_penetration = std::max(max_penetration, c.max_penetration);
   if (!std::isnan(c.min_active_gap)) {

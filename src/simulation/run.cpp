@@ -157,6 +157,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.pushes = totals.pushes;
   summary.creases = totals.creases;
   summary.push_work = totals.push_work;
+  summary.pushes_given_up = totals.pushes_given_up;
   summary.min_active_gap = totals.min_active_gap;
   summary.max_active_gap = totals.max_active_gap;
   summary.max_penetration = totals.max_penetration;

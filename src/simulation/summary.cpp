@@ -43,6 +43,7 @@ Json figures(const RunSummary& s, int unknowns) {
               {"pushes", s.pushes},
               {"creases", s.creases},
               {"push_work", s.push_work},
+              {"pushes_given_up", s.pushes_given_up},
               {"max_activation_gap", s.max_activation_gap},
               {"seconds",
                {{"assembly", t.assembly},

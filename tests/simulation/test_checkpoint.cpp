@@ -45,6 +45,37 @@ TEST(Checkpoint, StepBeyondThirtyTwoBitsRoundTrips) {
   EXPECT_EQ(back.state.v, c.state.v);
 }
 
+// A constraint whose push-out was given up stays held after a restart
+// (contact::Constraint::hold), and the run's count of them carries on.
+TEST(Checkpoint, ConstraintsKeepWhetherTheyHold) {
+  const auto dir = test::scratch("checkpoint_hold");
+  const model::Model<2> model = three_nodes();
+  Checkpoint<2> c;
+  c.fingerprint = {{"dimension", 2, "2"}};
+  c.state.u = Eigen::VectorXd::Zero(6);
+  c.state.v = Eigen::VectorXd::Zero(6);
+  c.control.dt = 1e-3;
+  c.totals.pushes_given_up = 3;
+  for (const bool hold : {true, false}) {
+    contact::Constraint<2> k;
+    k.pair = 0;
+    k.slave = 0;
+    k.facet = 1;
+    k.master = {1, 2};
+    k.kind = contact::Kind::frictionless;
+    k.gap = hold ? -0.01 : 0.0;
+    k.hold = hold;
+    c.constraints.push_back(k);
+  }
+  write_checkpoint<2>(checkpoint_path(dir, 0), c);
+  const Checkpoint<2> back = read_checkpoint<2>(checkpoint_path(dir, 0), c.fingerprint, model);
+  ASSERT_EQ(back.constraints.size(), 2U);
+  EXPECT_TRUE(back.constraints[0].hold);
+  EXPECT_EQ(back.constraints[0].gap, -0.01);
+  EXPECT_FALSE(back.constraints[1].hold);
+  EXPECT_EQ(back.totals.pushes_given_up, 3);
+}
+
 TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
   // Version 1 stored 32-bit steps: its files are refused with the versions.
   const auto dir = test::scratch("checkpoint_version_1");
@@ -60,7 +91,7 @@ TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
     FAIL() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), (dir / "old.bin").string() +
-                                         ": bad checkpoint: format version 1, this conserve reads version 8 only "
+                                         ": bad checkpoint: format version 1, this conserve reads version 9 only "
                                          "(restart with the conserve that wrote it, or run from the start)");
   }
 }
