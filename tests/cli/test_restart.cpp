@@ -98,6 +98,14 @@ TEST(Restart, LocatedImpactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_located", scenario, cut + 3, cut);
 }
 
+// A slave whose push-out was given up stays held after a restart
+// (contact::Constraint::hold is in the checkpoint): read back as a plain
+// held slave, it would be pushed again at the next step and given up again.
+TEST(Restart, GivenUpPushOutHistoryIsBitIdentical) {
+  const std::string scenario = block_into_a_flank("paper") + "[output]\nvtu_every = 0\ncheckpoint_every = 10\n";
+  expect_identical_after_restart("restart_given_up", scenario, 12, 10);
+}
+
 /// Restarts from step 10 of kGlancingDiscs with `other` (kGlancingDiscs
 /// with `from` replaced by `to`): refused with one line containing `what`.
 void expect_refused_naming(const std::string& name, const std::string& from, const std::string& to,

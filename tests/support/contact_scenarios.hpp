@@ -419,4 +419,48 @@ inline std::string located(const std::string& toml) {
   return toml + "[active_set]\nscheme = \"persistent\"\nlocate_impacts = true\n";
 }
 
+/// A block driven at 1 m/s into the flank of a base (2D, no gravity) whose
+/// master surface is its top alone: the block's bottom corner goes in
+/// through the base's side, 1 cm below the top, and comes in under the
+/// top's border already behind it (its push-out is given up: held 1 cm
+/// behind from step 5 of 40).
+inline std::string block_into_a_flank(const std::string& scheme) {
+  return R"(dimension = 2
+[time]
+step = 1e-3
+end = 0.04
+[active_set]
+scheme = ")" +
+         scheme + R"("
+[[body]]
+name = "base"
+[body.material]
+young = 1.0e5
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "rectangle"
+lx = 0.4
+ly = 0.1
+size = 0.05
+[[body]]
+name = "block"
+translate = [-0.255, 0.09]
+velocity = [1.0, 0.0]
+[body.material]
+young = 1.0e5
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "rectangle"
+lx = 0.1
+ly = 0.1
+size = 0.05
+[[contact]]
+slave = "block:ymin"
+master = "base:ymax"
+kind = "frictionless"
+)";
+}
+
 }  // namespace conserve::test

@@ -472,47 +472,8 @@ TEST(FrictionlessContact, ReducedTangentOfACreasePairMatchesDifferences) {
 // given back is given up: the slave is held where it started
 // (Constraint::hold), as the paper's scheme holds every slave, and the
 // run goes on conserving.
-std::string block_into_a_flank(const std::string& scheme) {
-  return R"(dimension = 2
-[time]
-step = 1e-3
-end = 0.04
-[active_set]
-scheme = ")" +
-         scheme + R"("
-[[body]]
-name = "base"
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "rectangle"
-lx = 0.4
-ly = 0.1
-size = 0.05
-[[body]]
-name = "block"
-translate = [-0.255, 0.09]
-velocity = [1.0, 0.0]
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "rectangle"
-lx = 0.1
-ly = 0.1
-size = 0.05
-[[contact]]
-slave = "block:ymin"
-master = "base:ymax"
-kind = "frictionless"
-)";
-}
-
 void check_block_into_a_flank(const std::string& scheme) {
-  ContactRun<2> run(block_into_a_flank(scheme));
+  ContactRun<2> run(test::block_into_a_flank(scheme));
   const Diagnostics d0 = run.diagnostics();
   double e = 0.0, behind = 0.0;
   int holds = 0, steps = 0;
