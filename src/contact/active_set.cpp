@@ -78,6 +78,7 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
   std::fill(released_.begin(), released_.end(), 0);
   std::fill(held_.begin(), held_.end(), 0);
   std::fill(given_up_.begin(), given_up_.end(), 0);
+  old_given_up_ = 0;
   step_ = step;
   double sum = 0.0;
   for (Constraint<D>& c : active_) {
@@ -193,22 +194,26 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
   }
   stats.pushes =
       static_cast<int>(std::count_if(active_.begin(), active_.end(), [](const Constraint<D>& c) { return c.push; }));
+  // Slaves held afresh in the step: not those held before it and
+  // re-activated in it after a release.
+  stats.pushes_given_up =
+      old_given_up_ + static_cast<int>(std::count_if(active_.begin(), active_.end(), [&](const Constraint<D>& c) {
+        return c.hold && c.activated_step == step_ && given_up_[c.slave] != 1;
+      }));
   return SetChange::none;
 }
 
 template <int D>
-int ActiveSet<D>::hold_pushes(const Eigen::VectorXd& u_n) {
+void ActiveSet<D>::hold_pushes(const Eigen::VectorXd& u_n) {
   const Positions<D> x_n = positions(u_n);
-  int held = 0;
   for (Constraint<D>& c : active_) {
     if (!c.push) continue;
     c.push = false;
     c.hold = true;
-    given_up_[c.slave] = 1;
+    if (given_up_[c.slave] == 0) given_up_[c.slave] = 2;
+    if (c.activated_step != step_) ++old_given_up_;
     c.gap = project<D>(x_n.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_n)).gap;
-    ++held;
   }
-  return held;
 }
 
 template <int D>

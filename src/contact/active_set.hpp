@@ -53,8 +53,8 @@ struct StepContactStats {
   int pushes = 0;
   double push_work = 0.0;
   /// Push-outs given up in the step because the bodies' deformation
-  /// velocity could not give their work back: those slaves are held where
-  /// they started instead (Constraint::hold).
+  /// velocity could not give their work back (counted once a slave): those
+  /// slaves are held where they started instead (Constraint::hold).
   int pushes_given_up = 0;
   /// Second constraints given to slaves held on one facet and found
   /// behind a neighbouring facet of the same master surface at the end of
@@ -149,8 +149,8 @@ class ActiveSet {
   /// Gives up the step's push-outs (Constraint::push) after a solve whose
   /// push-out work the bodies cannot give back: each such slave is held
   /// from now on where it started the step (u_n), at zero work
-  /// (Constraint::hold); solve the step again. Returns how many.
-  int hold_pushes(const Eigen::VectorXd& u_n);
+  /// (Constraint::hold); solve the step again.
+  void hold_pushes(const Eigen::VectorXd& u_n);
 
   /// With impacts located: where the step u_n → u should end for the
   /// earliest slave found behind its master at u that started the step
@@ -262,10 +262,14 @@ class ActiveSet {
   std::vector<int> slot_;                     ///< per node: scratch of split_forces(), −1
   std::vector<char> released_;    ///< per node: released during this step
   std::vector<char> held_;        ///< per node: re-activated after a release in this step; not released again
-  /// Per node: a push-out of it was given up (an active constraint of it
-  /// holds, Constraint::hold, at the step's start, or hold_pushes in the
-  /// step): re-activated in the step, it is held, not pushed again.
+  /// Per node: a push-out of it was given up, 1: before this step (an
+  /// active constraint of it holds at the step's start, Constraint::hold),
+  /// 2: in it (hold_pushes). Re-activated in the step, it is held, not
+  /// pushed again.
   std::vector<char> given_up_;
+  /// Constraints from before this step whose push-out was given up in it
+  /// (hold_pushes); with the step's new held slaves, StepContactStats::pushes_given_up.
+  int old_given_up_ = 0;
   std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step

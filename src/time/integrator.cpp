@@ -141,8 +141,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
         // More than the bodies' deformation velocity holds, at this Δt and
         // (the work grows as the push-out's speed squared) any shorter
         // one: the slaves are held where they started instead.
-        stats_.pushes_given_up += contacts_->hold_pushes(state.u);
-        stats_.pushes = 0;
+        contacts_->hold_pushes(state.u);  // counted in stats_.pushes_given_up by the next update
         push_work = 0.0;
         v_np1.resize(0);
         again = true;

@@ -102,7 +102,8 @@ TEST(Restart, LocatedImpactHistoryIsBitIdentical) {
 // (contact::Constraint::hold is in the checkpoint): read back as a plain
 // held slave, it would be pushed again at the next step and given up again.
 TEST(Restart, GivenUpPushOutHistoryIsBitIdentical) {
-  const std::string scenario = block_into_a_flank("paper") + "[output]\nvtu_every = 0\ncheckpoint_every = 10\n";
+  const std::string scenario =
+      block_into_a_flank(2, "paper", 4e-3, 0.1) + "[output]\nvtu_every = 0\ncheckpoint_every = 10\n";
   expect_identical_after_restart("restart_given_up", scenario, 12, 10);
 }
 

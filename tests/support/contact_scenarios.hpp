@@ -419,13 +419,19 @@ inline std::string located(const std::string& toml) {
   return toml + "[active_set]\nscheme = \"persistent\"\nlocate_impacts = true\n";
 }
 
-/// A block driven at 1 m/s into the flank of a base (2D, no gravity) whose
-/// master surface is its top alone: the block's bottom corner goes in
-/// through the base's side, 1 cm below the top, and comes in under the
-/// top's border already behind it (its push-out is given up: held 1 cm
-/// behind from step 5 of 40).
-inline std::string block_into_a_flank(const std::string& scheme) {
-  return R"(dimension = 2
+/// A block driven at `speed` into the flank of a base (2D or 3D, no
+/// gravity, facets of 5 cm) whose master surface is its top alone: the
+/// block's bottom edge goes in through the base's side, which is no
+/// master, `depth` below the top, and comes in under the top's border
+/// already that far behind it (from step 5 of 40).
+inline std::string block_into_a_flank(int dim, const std::string& scheme, double depth, double speed) {
+  const bool d3 = dim == 3;
+  // The top is y = 0.05 in 2D, z = 0.05 in 3D; the block starts 5 ms
+  // short of the base's side x = -0.2, its bottom `depth` below the top.
+  const std::string x = std::to_string(-0.25 - 5e-3 * speed), v = std::to_string(speed);
+  const std::string top = d3 ? "zmax" : "ymax", bottom = d3 ? "zmin" : "ymin";
+  const std::string mesh = d3 ? "generator = \"box\"\nly = 0.1\nlz = 0.1\n" : "generator = \"rectangle\"\nly = 0.1\n";
+  return "dimension = " + std::to_string(dim) + R"(
 [time]
 step = 1e-3
 end = 0.04
@@ -439,26 +445,28 @@ young = 1.0e5
 poisson = 0.3
 density = 1000.0
 [body.mesh]
-generator = "rectangle"
-lx = 0.4
-ly = 0.1
+)" + mesh +
+         R"(lx = 0.4
 size = 0.05
 [[body]]
 name = "block"
-translate = [-0.255, 0.09]
-velocity = [1.0, 0.0]
+translate = )" +
+         "[" + x + (d3 ? ", 0.0, " : ", ") + std::to_string(0.1 - depth) + R"(]
+velocity = )" +
+         "[" + v + (d3 ? ", 0.0, 0.0]" : ", 0.0]") + R"(
 [body.material]
 young = 1.0e5
 poisson = 0.3
 density = 1000.0
 [body.mesh]
-generator = "rectangle"
-lx = 0.1
-ly = 0.1
+)" + mesh +
+         R"(lx = 0.1
 size = 0.05
 [[contact]]
-slave = "block:ymin"
-master = "base:ymax"
+slave = "block:)" +
+         bottom + R"("
+master = "base:)" +
+         top + R"("
 kind = "frictionless"
 )";
 }

@@ -461,41 +461,56 @@ TEST(FrictionlessContact, ReducedTangentOfACreasePairMatchesDifferences) {
 }
 
 // A block driven sideways into the flank of a base whose master surface
-// is its top alone (2D, no gravity): the block's bottom corner goes into
-// the base through its left side, which is no master, 1 cm below the top,
-// and comes in under the top's border already behind it. Nothing in the
-// scenario can put it out the way it came, and pushing it 1 cm up in a
-// step (Constraint::push) is work the block's deformation velocity, nil
-// in its rigid flight, cannot give back. FAILED until 2026-11-26: every
-// Δt failed, down to the cutback floor (the §6.2 example met this with a
-// round-off change, docs/validation.md §7). Now a push-out that cannot be
-// given back is given up: the slave is held where it started
-// (Constraint::hold), as the paper's scheme holds every slave, and the
-// run goes on conserving.
-void check_block_into_a_flank(const std::string& scheme) {
-  ContactRun<2> run(test::block_into_a_flank(scheme));
+// is its top alone (test::block_into_a_flank): the block's bottom edge
+// goes into the base through its side, which is no master, and comes in
+// under the top's border already behind it. Nothing in the scenario can
+// put it out the way it came. FAILED until 2026-11-26 (87e08c7), every
+// case here: pushing the slave out in a step (Constraint::push) was work
+// the block's deformation velocity, nil in its rigid flight, could not
+// give back, at any Δt down to the cutback floor (the §6.2 example met
+// this with a round-off change, docs/validation.md §7). Now the push-out
+// is given up (ActiveSet::hold_pushes) and the slave held where it
+// started (Constraint::hold), as the paper's scheme holds every slave;
+// the run goes on conserving. Not covered: 1 cm deep at 1 m/s in 3D, the
+// scheme of the paper, where later slaves are pushed out 1 cm once a
+// little vibration can pay for it and a cell of the block inverts in
+// step 27 (docs/theory.md, "Limits").
+template <int D>
+void check_block_into_a_flank(const std::string& scheme, double depth, double speed) {
+  ContactRun<D> run(test::block_into_a_flank(D, scheme, depth, speed));
   const Diagnostics d0 = run.diagnostics();
   double e = 0.0, behind = 0.0;
-  int holds = 0, steps = 0;
+  int given_up = 0, pushes = 0, steps = 0;
   while (run.state.time < 0.04 - 1e-12) {
     ASSERT_NO_THROW(run.step()) << scheme << ", step " << steps + 1;
     ++steps;
-    holds += run.last.contact.pushes_given_up;
+    given_up += run.last.contact.pushes_given_up;
+    pushes += run.last.contact.pushes;
     e = std::max(e, std::abs(run.diagnostics().total - d0.total) / d0.total);
     if (run.last.contact.min_active_gap < 0.0) behind = std::max(behind, -run.last.contact.min_active_gap);
   }
   std::printf(
-      "[ measured ] block into a flank (%s), %d steps: %d push-out(s) given up, held up to %.2e m behind, "
-      "E drift %.2e\n",
-      scheme.c_str(), steps, holds, behind, e);
-  EXPECT_GE(holds, 1);  // the case happened: the corner came in 1 cm deep
-  EXPECT_GT(behind, 5e-3);
-  EXPECT_LT(behind, 1.5e-2);
+      "[ measured ] block into a flank %.0f mm deep at %.1f m/s, %dD (%s), %d steps: %d push-out(s) given up, %d done, "
+      "held up "
+      "to %.2e m behind, E drift %.2e\n",
+      depth * 1e3, speed, D, scheme.c_str(), steps, given_up, pushes, behind, e);
+  EXPECT_GE(given_up, 1);  // the case happened (push-outs the bodies can pay for are still done)
+  EXPECT_GT(behind, 0.9 * depth);
+  EXPECT_LT(behind, 1.1 * depth);
   EXPECT_LT(e, 1e-10);
 }
 
-TEST(FrictionlessContact, APushOutTheBodiesCannotPayForIsGivenUp) { check_block_into_a_flank("paper"); }
-TEST(FrictionlessContact, APushOutTheBodiesCannotPayForIsGivenUpPersistent) { check_block_into_a_flank("persistent"); }
+TEST(FrictionlessContact, APushOutTheBodiesCannotPayForIsGivenUp2d) {
+  check_block_into_a_flank<2>("paper", 4e-3, 0.1);
+  check_block_into_a_flank<2>("persistent", 4e-3, 0.1);
+  check_block_into_a_flank<2>("paper", 1e-2, 1.0);
+  check_block_into_a_flank<2>("persistent", 1e-2, 1.0);
+}
+TEST(FrictionlessContact, APushOutTheBodiesCannotPayForIsGivenUp3d) {
+  check_block_into_a_flank<3>("paper", 4e-3, 0.1);
+  check_block_into_a_flank<3>("persistent", 4e-3, 0.1);
+  check_block_into_a_flank<3>("persistent", 1e-2, 1.0);
+}
 
 }  // namespace
 }  // namespace conserve::time
