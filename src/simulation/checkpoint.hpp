@@ -37,8 +37,7 @@ struct RunTotals {
   std::int64_t pushes = 0;           ///< slaves pushed out from behind their facets (contact::Constraint::push)
   std::int64_t creases = 0;          ///< crease pairs formed (contact::ActiveSet::crease)
   double push_work = 0.0;            ///< the push-outs' work taken back out of the velocities [J]
-  std::int64_t pushes_given_up =
-      0;  ///< push-outs the bodies could not pay for: held instead (contact::Constraint::hold)
+  std::int64_t pushes_given_up = 0;  ///< push-outs given up, the slaves held (contact::Constraint::hold)
   double max_activation_gap = 0.0;
   /// Extremes over the steps: gaps of the active slaves (NaN while none
   /// was ever active) and the deepest penetration [m]; smallest det F.

@@ -37,8 +37,7 @@ struct RunSummary {
   std::int64_t pushes = 0;          ///< slaves pushed out from behind their facets (contact::Constraint::push)
   std::int64_t creases = 0;         ///< crease pairs formed (contact::ActiveSet::crease)
   double push_work = 0.0;           ///< the push-outs' work taken back out of the velocities [J]
-  std::int64_t pushes_given_up =
-      0;  ///< push-outs the bodies could not pay for: held instead (contact::Constraint::hold)
+  std::int64_t pushes_given_up = 0;  ///< push-outs given up, the slaves held (contact::Constraint::hold)
   double min_active_gap = 0.0;      ///< smallest gap of an active slave at a step's end [m] (NaN: none)
   double max_active_gap = 0.0;      ///< largest gap of an active slave at a step's end [m] (NaN: none)
   double max_penetration = 0.0;     ///< deepest slave behind its master at a step's end [m]
