@@ -430,45 +430,15 @@ inline std::string block_into_a_flank(int dim, const std::string& scheme, double
   // short of the base's side x = -0.2, its bottom `depth` below the top.
   const std::string x = std::to_string(-0.25 - 5e-3 * speed), v = std::to_string(speed);
   const std::string top = d3 ? "zmax" : "ymax", bottom = d3 ? "zmin" : "ymin";
-  const std::string mesh = d3 ? "generator = \"box\"\nly = 0.1\nlz = 0.1\n" : "generator = \"rectangle\"\nly = 0.1\n";
-  return "dimension = " + std::to_string(dim) + R"(
-[time]
-step = 1e-3
-end = 0.04
-[active_set]
-scheme = ")" +
-         scheme + R"("
-[[body]]
-name = "base"
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-)" + mesh +
-         R"(lx = 0.4
-size = 0.05
-[[body]]
-name = "block"
-translate = )" +
-         "[" + x + (d3 ? ", 0.0, " : ", ") + std::to_string(0.1 - depth) + R"(]
-velocity = )" +
-         "[" + v + (d3 ? ", 0.0, 0.0]" : ", 0.0]") + R"(
-[body.material]
-young = 1.0e5
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-)" + mesh +
-         R"(lx = 0.1
-size = 0.05
-[[contact]]
-slave = "block:)" +
-         bottom + R"("
-master = "base:)" +
-         top + R"("
-kind = "frictionless"
-)";
+  // Material and mesh of both bodies, but for the length along x.
+  const std::string body =
+      std::string("[body.material]\nyoung = 1.0e5\npoisson = 0.3\ndensity = 1000.0\n[body.mesh]\n") +
+      (d3 ? "generator = \"box\"\nly = 0.1\nlz = 0.1\n" : "generator = \"rectangle\"\nly = 0.1\n") + "size = 0.05\n";
+  return "dimension = " + std::to_string(dim) + "\n[time]\nstep = 1e-3\nend = 0.04\n[active_set]\nscheme = \"" +
+         scheme + "\"\n[[body]]\nname = \"base\"\n" + body + "lx = 0.4\n[[body]]\nname = \"block\"\ntranslate = [" + x +
+         (d3 ? ", 0.0, " : ", ") + std::to_string(0.1 - depth) + "]\nvelocity = [" + v +
+         (d3 ? ", 0.0, 0.0]" : ", 0.0]") + "\n" + body + "lx = 0.1\n[[contact]]\nslave = \"block:" + bottom +
+         "\"\nmaster = \"base:" + top + "\"\nkind = \"frictionless\"\n";
 }
 
 }  // namespace conserve::test
