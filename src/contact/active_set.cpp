@@ -18,7 +18,16 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
       prescribed_(model.num_nodes(), 0) {
   for (int d : model.prescribed.dofs) prescribed_[d / D] = 1;
   const Positions<D> x = model.X;
-  for (auto& pair : pairs_) pair.tree.build(pair.master.facets, x);
+  for (auto& pair : pairs_) {
+    pair.tree.build(pair.master.facets, x);
+    std::vector<double> size(pair.slave.nodes.size(), 0.0);
+    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
+      for (int f : pair.slave.node_facets[i])
+        for (int a = 0; a < D; ++a)
+          for (int b = a + 1; b < D; ++b)
+            size[i] = std::max(size[i], (x.col(pair.slave.facets(a, f)) - x.col(pair.slave.facets(b, f))).norm());
+    facet_size_.push_back(std::move(size));
+  }
   slot_.assign(model.num_nodes(), -1);
   index_active();
 }
@@ -85,11 +94,12 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
     c.start_force = c.normal_force;
     sum += c.normal_force;
     // A slave held behind its facet (the second constraint of a slave on
-    // two surfaces keeps its start gap; its first has been released) is
-    // pushed out in this step, as at its activation (make_constraint),
+    // two surfaces keeps its start gap; its first has been released), or
+    // part of the way out of a push-out deeper than a step's (push_target),
+    // is pushed out in this step, as at its activation (make_constraint),
     // unless a push-out of it was given up (hold).
     c.push = c.kind == Kind::frictionless && c.gap < 0.0 && count_[c.slave] == 1 && !c.hold;
-    if (c.push) c.gap = 0.0;
+    if (c.push) c.gap = push_target(c, c.gap);
     if (c.hold) given_up_[c.slave] = 1;
   }
   start_mean_force_ = active_.empty() ? 0.0 : sum / static_cast<double>(active_.size());
@@ -220,16 +230,10 @@ template <int D>
 void ActiveSet<D>::locate_impacts(double gap_tolerance) {
   gap_tolerance_.clear();
   if (!(gap_tolerance > 0.0)) return;
-  for (const ContactPair<D>& pair : pairs_) {
-    std::vector<double> tolerance(pair.slave.nodes.size(), 0.0);
-    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
-      for (int f : pair.slave.node_facets[i])
-        for (int a = 0; a < D; ++a)
-          for (int b = a + 1; b < D; ++b) {
-            const double edge = (model_.X.col(pair.slave.facets(a, f)) - model_.X.col(pair.slave.facets(b, f))).norm();
-            tolerance[i] = std::max(tolerance[i], gap_tolerance * edge);
-          }
-    gap_tolerance_.push_back(std::move(tolerance));
+  for (const std::vector<double>& size : facet_size_) {
+    gap_tolerance_.emplace_back(size.size());
+    std::transform(size.begin(), size.end(), gap_tolerance_.back().begin(),
+                   [&](double h) { return gap_tolerance * h; });
   }
 }
 
@@ -280,6 +284,16 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
       },
       &x_n);
   return fraction;
+}
+
+template <int D>
+double ActiveSet<D>::push_target(const Constraint<D>& c, double start_gap) const {
+  return std::min(0.0, start_gap + kPushOutStep * facet_size(c.pair, c.slave));
+}
+
+template <int D>
+double ActiveSet<D>::facet_size(int pair, int slave) const {
+  return facet_size_[pair][static_cast<std::size_t>(pairs_[pair].slave.local_node(slave))];
 }
 
 template <int D>
@@ -436,7 +450,8 @@ Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, c
   c.gap = start.gap;
   // Behind: pushed out to γ = 0, at zero work if the step's other
   // non-rigid motion can carry it, else by the paper's force (push), whose
-  // work the velocity update after the step takes back. The second
+  // work the velocity update after the step takes back, a step's share at
+  // a time (push_target). The second
   // constraint of a slave on two surfaces has no such force (its pair's
   // forces are always the zero-work ones): it keeps its start gap, and so
   // does a slave whose push-out was given up (given_up_).
@@ -446,7 +461,7 @@ Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, c
     } else if (given_up_[s]) {
       c.hold = true;
     } else if (count_[s] == 0) {
-      c.gap = 0.0;
+      c.gap = push_target(c, start.gap);
       c.push = true;
     }
   }

@@ -80,6 +80,15 @@ inline constexpr double kParallelCosine = 0.9;
 /// constraint's nodes (ActiveSet::push_out).
 inline constexpr double kPushOut = 1.0;
 
+/// The most a push-out by the paper's force (Constraint::push) moves its
+/// slave out in one step, as a fraction of the slave's facet size
+/// (ActiveSet::push_target): a slave found deeper behind is pushed out
+/// over several steps. The work of a push-out grows as its depth squared,
+/// and the bodies' deformation velocity has to give it back within the
+/// step (PersistentVelocity::restore_energy); pushed out whole, a slave a
+/// fifth of its facet behind inverted a cell (docs/theory.md, "Limits").
+inline constexpr double kPushOutStep = 0.1;
+
 /// A release counts as chatter if the slave was activated less than this
 /// many steps before (history.csv `chatter`).
 inline constexpr int kChatterWindow = 10;
@@ -169,6 +178,10 @@ class ActiveSet {
   /// The largest gap slave node `slave` of pair `pair` is activated with
   /// when impacts are located [m] (+∞ when they are not).
   [[nodiscard]] double gap_tolerance(int pair, int slave) const;
+  /// The longest edge of the slave facets at slave node `slave` of pair
+  /// `pair` in the reference configuration [m]: the mesh size that the
+  /// gap tolerance and a push-out's step (push_target) are fractions of.
+  [[nodiscard]] double facet_size(int pair, int slave) const;
 
   /// Replaces the active set (restoring a checkpoint or a failed step's
   /// start); the per-node flags follow, the normal forces are the constraints'
@@ -205,6 +218,12 @@ class ActiveSet {
   /// kPushOut |w|, w the non-rigid part of the nodes' motion without the
   /// slave's normal motion relative to the facet (make_constraint).
   [[nodiscard]] double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) const;
+  /// The gap γ a push-out by the paper's force (Constraint::push) holds
+  /// frictionless constraint c's slave at, from `start_gap` < 0 behind its
+  /// facet: out by at most kPushOutStep of the slave's facet size, up to
+  /// γ = 0. Deeper slaves stay behind and are pushed on in the next step
+  /// (begin_step).
+  [[nodiscard]] double push_target(const Constraint<D>& c, double start_gap) const;
   /// The master facet slave `pair.slave.nodes[i]` is behind or in front of
   /// at positions x (the tree refitted to x), if the slave is over the
   /// surface (over_surface()); given the step's start x_n, also a facet
@@ -273,6 +292,9 @@ class ActiveSet {
   std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step
+  /// Per pair, per slave node (local): the longest edge of the slave
+  /// facets at the node in the reference configuration [m].
+  std::vector<std::vector<double>> facet_size_;
   /// Per pair, per slave node (local): the largest gap it is activated
   /// with; empty when impacts are not located.
   std::vector<std::vector<double>> gap_tolerance_;

@@ -65,7 +65,8 @@ struct Constraint {
   /// γ: the gap held, the slave's gap at the start of the step it was
   /// activated in [m], or 0 if it started behind and could be pushed out
   /// at zero work (ActiveSet::make_constraint); negative for a slave held
-  /// behind. Stick: the height of the slave above ξ̄.
+  /// behind, or pushed out part of the way in this step (push). Stick: the
+  /// height of the slave above ξ̄.
   double gap = 0.0;
   /// Frictionless, for the rest of the step: the paper's rate condition
   /// (48), n_{n+½}·(Δx_s − N_{n+½} Δx_m) = 0, instead of the held gap γ,
@@ -80,8 +81,10 @@ struct Constraint {
   /// (activated there further than the step's other non-rigid motion can
   /// carry it out at zero work, ActiveSet::push_out; held behind as a
   /// slave's second constraint, ActiveSet::begin_step; or about to be left
-  /// there by (48), ActiveSet::update), and is pushed out to γ = 0 by the
-  /// paper's normal force a (no zero-work correction). That force does
+  /// there by (48), ActiveSet::update), and is pushed out towards γ = 0 by
+  /// the paper's normal force a (no zero-work correction), by at most
+  /// kPushOutStep of its facet size in a step (ActiveSet::push_target;
+  /// a deeper slave goes on in the next steps). That force does
   /// work, which the velocity update after the step takes back out of the
   /// bodies' deformation (PersistentVelocity::restore_energy), so E, L and
   /// J are kept. Cleared when the next step begins (ActiveSet::begin_step);

@@ -107,6 +107,15 @@ TEST(Restart, GivenUpPushOutHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_given_up", scenario, 12, 10);
 }
 
+// The same block 1 cm deep at 1 m/s: its first slave is pushed out over
+// steps 5 to 12, 1.25 mm a step (ActiveSet::push_target). Restarted from
+// step 8, half-way out, it is pushed on from where it was held.
+TEST(Restart, SpreadPushOutHistoryIsBitIdentical) {
+  const std::string scenario =
+      block_into_a_flank(2, "paper", 1e-2, 1.0) + "[output]\nvtu_every = 0\ncheckpoint_every = 8\n";
+  expect_identical_after_restart("restart_spread_push", scenario, 14, 8);
+}
+
 /// Restarts from step 10 of kGlancingDiscs with `other` (kGlancingDiscs
 /// with `from` replaced by `to`): refused with one line containing `what`.
 void expect_refused_naming(const std::string& name, const std::string& from, const std::string& to,

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "contact/active_set.hpp"
 #include "contact_checks.hpp"
 #include "support/contact_scenarios.hpp"
 
@@ -471,44 +472,78 @@ TEST(FrictionlessContact, ReducedTangentOfACreasePairMatchesDifferences) {
 // this with a round-off change, docs/validation.md §7). Now the push-out
 // is given up (ActiveSet::hold_pushes) and the slave held where it
 // started (Constraint::hold), as the paper's scheme holds every slave;
-// the run goes on conserving. Not covered: 1 cm deep at 1 m/s in 3D, the
-// scheme of the paper, where later slaves are pushed out 1 cm once a
-// little vibration can pay for it and a cell of the block inverts in
-// step 27 (docs/theory.md, "Limits").
+// the run goes on conserving.
+//
+// 1 cm deep at 1 m/s, the slaves were pushed out 1 cm in one step once a
+// little vibration could pay for it: in 3D with the paper's scheme a cell
+// of the block inverted in step 27 and the run stopped (FAILED at
+// 90dfe51; the 2D runs and the 3D persistent one gave up 3 and 17
+// push-outs and held the slaves 1 cm behind). A push-out now moves a
+// slave at most kPushOutStep of its facet size in a step
+// (ActiveSet::push_target) and goes on in the next steps, each step's
+// work small enough to be given back.
 template <int D>
 void check_block_into_a_flank(const std::string& scheme, double depth, double speed) {
   ContactRun<D> run(test::block_into_a_flank(D, scheme, depth, speed));
   const Diagnostics d0 = run.diagnostics();
-  double e = 0.0, behind = 0.0;
+  double e = 0.0, behind = 0.0, det_F = 1.0, stride = 0.0, most = 0.0;
   int given_up = 0, pushes = 0, steps = 0;
   while (run.state.time < 0.04 - 1e-12) {
+    const contact::Positions<D> x_n = run.positions();
     ASSERT_NO_THROW(run.step()) << scheme << ", step " << steps + 1;
     ++steps;
     given_up += run.last.contact.pushes_given_up;
     pushes += run.last.contact.pushes;
-    e = std::max(e, std::abs(run.diagnostics().total - d0.total) / d0.total);
+    const Diagnostics d = run.diagnostics();
+    e = std::max(e, std::abs(d.total - d0.total) / d0.total);
+    det_F = std::min(det_F, d.min_det_F);
     if (run.last.contact.min_active_gap < 0.0) behind = std::max(behind, -run.last.contact.min_active_gap);
+    // Each push-out's stride in the step: from the slave's start gap on
+    // its facet to the gap it is held at, against the most allowed.
+    for (const contact::Constraint<D>& c : run.contacts->constraints()) {
+      if (!c.push) continue;
+      const auto& master = run.contacts->pairs()[c.pair].master;
+      const double start = contact::project<D>(x_n.col(c.slave), contact::facet_nodes<D>(master, c.facet, x_n)).gap;
+      const double allowed = contact::kPushOutStep * run.contacts->facet_size(c.pair, c.slave);
+      stride = std::max(stride, (c.gap - start) / allowed);
+      most = std::max(most, allowed);
+    }
   }
+  const double end_gap = run.last.contact.min_active_gap;
   std::printf(
-      "[ measured ] block into a flank %.0f mm deep at %.1f m/s, %dD (%s), %d steps: %d push-out(s) given up, %d done, "
-      "held up "
-      "to %.2e m behind, E drift %.2e\n",
-      depth * 1e3, speed, D, scheme.c_str(), steps, given_up, pushes, behind, e);
-  EXPECT_GE(given_up, 1);  // the case happened (push-outs the bodies can pay for are still done)
-  EXPECT_GT(behind, 0.9 * depth);
-  EXPECT_LT(behind, 1.1 * depth);
+      "[ measured ] block into a flank %.0f mm deep at %.1f m/s, %dD (%s), %d steps: %d push-out(s) given up, %d done "
+      "(largest stride %.3f of the allowed %.2e m), up to %.2e m behind at a step's end, smallest det F %.3f, E drift "
+      "%.2e\n",
+      depth * 1e3, speed, D, scheme.c_str(), steps, given_up, pushes, stride, most, behind, det_F, e);
+  if (pushes == 0) {  // pushed out in one step: more work than the block can give back, held
+    EXPECT_GE(given_up, 1);
+    EXPECT_GT(behind, 0.9 * depth);
+    EXPECT_LT(behind, 1.1 * depth);
+  } else {  // pushed out over steps, each paid for: none held, none left behind
+    EXPECT_EQ(given_up, 0);
+    EXPECT_GT(behind, depth - most);  // not all of it in one step
+    EXPECT_LE(stride, 1.0 + 1e-9);
+    EXPECT_GT(stride, 0.99);
+    EXPECT_TRUE(!(end_gap < -1e-12)) << end_gap;
+    EXPECT_GT(det_F, 0.5);
+  }
   EXPECT_LT(e, 1e-10);
 }
 
 TEST(FrictionlessContact, APushOutTheBodiesCannotPayForIsGivenUp2d) {
   check_block_into_a_flank<2>("paper", 4e-3, 0.1);
   check_block_into_a_flank<2>("persistent", 4e-3, 0.1);
-  check_block_into_a_flank<2>("paper", 1e-2, 1.0);
-  check_block_into_a_flank<2>("persistent", 1e-2, 1.0);
 }
 TEST(FrictionlessContact, APushOutTheBodiesCannotPayForIsGivenUp3d) {
   check_block_into_a_flank<3>("paper", 4e-3, 0.1);
   check_block_into_a_flank<3>("persistent", 4e-3, 0.1);
+}
+TEST(FrictionlessContact, ADeepPushOutIsSpreadOverSteps2d) {
+  check_block_into_a_flank<2>("paper", 1e-2, 1.0);
+  check_block_into_a_flank<2>("persistent", 1e-2, 1.0);
+}
+TEST(FrictionlessContact, ADeepPushOutIsSpreadOverSteps3d) {
+  check_block_into_a_flank<3>("paper", 1e-2, 1.0);
   check_block_into_a_flank<3>("persistent", 1e-2, 1.0);
 }
 
