@@ -475,12 +475,15 @@ Match<D> Elimination<D>::settle(const Constraint<D>& k, const Vec<D>& xs, int fa
   const double lower = (*pairs_)[k.pair].search.penetration_tolerance;
   Match<D> best{facet, project<D>(xs, facet_nodes<D>(master, facet, x))};
   if (switches >= kMaxSwitches) return best;
-  best = follow<D>(xs, best, master, x, tol);
+  // Never onto a facet that faces the way the slave does (find_master).
+  const ContactSurface& slave = (*pairs_)[k.pair].slave;
+  const Vec<D> facing = node_normal<D>(slave, static_cast<std::size_t>(slave.local_node(k.slave)), x);
+  best = follow<D>(xs, best, master, x, tol, &facing);
   for (int side = 0; side < D; ++side) {
     const int next = master.facet_neighbours(side, best.facet);
     if (next < 0) continue;
     const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
-    if (p.inside(tol) && p.gap < best.projection.gap - lower) best = Match<D>{next, p};
+    if (p.inside(tol) && p.gap < best.projection.gap - lower && !(p.normal.dot(facing) > 0.0)) best = Match<D>{next, p};
   }
   return best;
 }

@@ -92,7 +92,7 @@ std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& sur
 
 template <int D>
 Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface& surface, const Positions<D>& x,
-                double inside_tolerance) {
+                double inside_tolerance, const Vec<D>* slave_normal) {
   const Match<D> here{current.facet, project<D>(x_s, facet_nodes<D>(surface, current.facet, x))};
   // Walk across the edges (vertices) the projection leaves by; accept the
   // first facet where it is inside, else stay on `current`, extrapolated.
@@ -103,6 +103,7 @@ Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface
     if (next < 0 || std::find(visited.begin(), visited.end(), next) != visited.end()) return here;
     visited.push_back(next);
     walk = Match<D>{next, project<D>(x_s, facet_nodes<D>(surface, next, x))};
+    if (slave_normal && walk.projection.normal.dot(*slave_normal) > 0.0) return here;  // both face the same way
   }
   return walk.projection.inside(inside_tolerance) ? walk : here;
 }
@@ -134,20 +135,24 @@ bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& su
 }
 
 template <int D>
-std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<D>& x) {
-  std::vector<Vec<D>> normals(surface.nodes.size(), Vec<D>::Zero());
-  for (std::size_t i = 0; i < surface.nodes.size(); ++i) {
-    for (const int f : surface.node_facets[i]) {
-      const Tangents<D> tau = facet_tangents<D>(facet_nodes<D>(surface, f, x));
-      // area (length) × unit normal
-      if constexpr (D == 3)
-        normals[i] += 0.5 * tau.col(0).cross(tau.col(1));
-      else
-        normals[i] += Vec<2>(tau(1, 0), -tau(0, 0));
-    }
-    const double norm = normals[i].norm();
-    if (norm > 0.0) normals[i] /= norm;
+Vec<D> node_normal(const ContactSurface& surface, std::size_t i, const Positions<D>& x) {
+  Vec<D> normal = Vec<D>::Zero();
+  for (const int f : surface.node_facets[i]) {
+    const Tangents<D> tau = facet_tangents<D>(facet_nodes<D>(surface, f, x));
+    // area (length) × unit normal
+    if constexpr (D == 3)
+      normal += 0.5 * tau.col(0).cross(tau.col(1));
+    else
+      normal += Vec<2>(tau(1, 0), -tau(0, 0));
   }
+  const double norm = normal.norm();
+  return norm > 0.0 ? Vec<D>(normal / norm) : normal;
+}
+
+template <int D>
+std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<D>& x) {
+  std::vector<Vec<D>> normals(surface.nodes.size());
+  for (std::size_t i = 0; i < surface.nodes.size(); ++i) normals[i] = node_normal<D>(surface, i, x);
   return normals;
 }
 
@@ -156,9 +161,11 @@ std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<
   template std::optional<Match<D>> find_master<D>(const Vec<D>&, const ContactSurface&, const FacetTree<D>&,         \
                                                   const Positions<D>&, const SearchSettings&,                        \
                                                   const std::optional<Vec<D>>&, FacetFrames<D>*);                    \
-  template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double);   \
+  template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double,    \
+                              const Vec<D>*);                                                                        \
   template bool over_surface<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double); \
-  template std::vector<Vec<D>> node_normals<D>(const ContactSurface&, const Positions<D>&);
+  template std::vector<Vec<D>> node_normals<D>(const ContactSurface&, const Positions<D>&);                          \
+  template Vec<D> node_normal<D>(const ContactSurface&, std::size_t, const Positions<D>&);
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)
 #undef CONSERVE_INSTANTIATE

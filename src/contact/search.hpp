@@ -67,14 +67,21 @@ bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& su
 /// the facet and extrapolates. "Left by" is the most negative barycentric
 /// coordinate (1 − Σξ, ξ[, η]). The walk crosses exit edges tentatively and
 /// never revisits a facet: it ends on the first facet where the projection is
-/// inside, or, if it meets the border or a revisit first, on `current`.
+/// inside, or, if it meets the border or a revisit first, on `current`. Given
+/// the slave's outward normal `slave_normal`, a facet whose normal points the
+/// same way is a border too, as find_master discards it: a slave on the rim
+/// of one body pressed against the side of another does not walk round the
+/// other's convex edge onto its top face, which faces the way it does.
 template <int D>
 Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface& surface, const Positions<D>& x,
-                double inside_tolerance = 1e-10);
+                double inside_tolerance = 1e-10, const Vec<D>* slave_normal = nullptr);
 
 /// Outward unit normal at each surface node (area-weighted facet normals),
 /// aligned with surface.nodes.
 template <int D>
 std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<D>& x);
+/// The same at surface node surface.nodes[i] alone.
+template <int D>
+Vec<D> node_normal(const ContactSurface& surface, std::size_t i, const Positions<D>& x);
 
 }  // namespace conserve::contact

@@ -287,6 +287,8 @@ struct PushOutCase {
         -1e-3, 0.0, 0.0, 0.0;
     pairs[0].master.facets = Eigen::Matrix<int, 3, 1>(1, 2, 3);
     build_adjacency(pairs[0].master, 3);
+    pairs[0].slave.nodes = {0};  // a lone slave node: no facets, no normal
+    pairs[0].slave.node_facets = {{}};
     u = u_n;
     u(3 * 2) = stretch;         // node 2 moves along x: the facet stretches
     u(0) = 0.5 * stretch;       // and the slave slides

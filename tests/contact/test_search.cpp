@@ -277,6 +277,32 @@ TEST(Search, FollowStopsAtTheEndOfASegmentChain) {
   EXPECT_FALSE(end.projection.inside());
 }
 
+// A slave on the rim of one body, pressed against the side of another
+// whose top is level with its own: round the other's convex corner lies
+// its top face, which faces the way the slave's top does. Walking onto it
+// would hold the slave against the top, across the motion that presses it
+// (the whole-boundary rings of §6.2 did this in their first contact, and
+// Newton failed from step 15 on: docs/validation.md §4).
+TEST(Search, FollowDoesNotWalkOntoAFacetThatFacesTheSlavesWay) {
+  const Scene<2> box(test::rectangle_mesh(5, 2, 1.0, 0.5), "boundary");
+  auto m = box.find(Vec<2>(0.99, 0.45), settings_with(0.1));
+  ASSERT_TRUE(m);
+  ASSERT_LT((box.normal(m->facet) - Vec<2>(1, 0)).norm(), 1e-14);  // the right side
+  const Vec<2> above(0.995, 0.505), rim = Vec<2>(-1.0, 1.0).normalized();
+  // Without the slave's normal the walk goes round the corner onto the top.
+  const Match<2> walked = follow<2>(above, *m, box.surface, box.model.X);
+  EXPECT_LT((box.normal(walked.facet) - Vec<2>(0, 1)).norm(), 1e-14);
+  EXPECT_TRUE(walked.projection.inside());
+  // With it the right side is kept, extrapolated past the corner.
+  const Match<2> kept = follow<2>(above, *m, box.surface, box.model.X, 1e-10, &rim);
+  EXPECT_EQ(kept.facet, m->facet);
+  EXPECT_NEAR(kept.projection.gap, -0.005, 1e-14);
+  EXPECT_FALSE(kept.projection.inside());
+  // A slave whose normal opposes the top's (one coming down on it) walks there.
+  const Vec<2> down(-0.6, -0.8);
+  EXPECT_EQ(follow<2>(above, *m, box.surface, box.model.X, 1e-10, &down).facet, walked.facet);
+}
+
 /// The outer surface of a ring of the paper's §6.2 (one facet high, with
 /// a row of nodes at mid-height).
 Scene<3> ring() {
