@@ -7,6 +7,22 @@
 #include "contact/zero_work.hpp"
 
 namespace conserve::contact {
+namespace {
+
+/// Per node of `surface` (aligned with surface.nodes): the longest edge of
+/// the facets at it, at positions x [m].
+template <int D>
+std::vector<double> longest_edges(const ContactSurface& surface, const Positions<D>& x) {
+  std::vector<double> size(surface.nodes.size(), 0.0);
+  for (std::size_t i = 0; i < surface.nodes.size(); ++i)
+    for (int f : surface.node_facets[i])
+      for (int a = 0; a < D; ++a)
+        for (int b = a + 1; b < D; ++b)
+          size[i] = std::max(size[i], (x.col(surface.facets(a, f)) - x.col(surface.facets(b, f))).norm());
+  return size;
+}
+
+}  // namespace
 
 template <int D>
 ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>> pairs)
@@ -20,13 +36,7 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
   const Positions<D> x = model.X;
   for (auto& pair : pairs_) {
     pair.tree.build(pair.master.facets, x);
-    std::vector<double> size(pair.slave.nodes.size(), 0.0);
-    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
-      for (int f : pair.slave.node_facets[i])
-        for (int a = 0; a < D; ++a)
-          for (int b = a + 1; b < D; ++b)
-            size[i] = std::max(size[i], (x.col(pair.slave.facets(a, f)) - x.col(pair.slave.facets(b, f))).norm());
-    facet_size_.push_back(std::move(size));
+    facet_size_.push_back(longest_edges<D>(pair.slave, x));
   }
   slot_.assign(model.num_nodes(), -1);
   index_active();
