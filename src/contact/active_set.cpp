@@ -93,7 +93,7 @@ std::optional<Constraint<D>> ActiveSet<D>::crease(int p, int s, const Match<D>& 
 
 template <int D>
 void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorXd& v_n) {
-  if (!gap_tolerance_.empty()) dt_ = dt, v_n_ = v_n;
+  if (located()) dt_ = dt, v_n_ = v_n;
   std::fill(released_.begin(), released_.end(), 0);
   std::fill(held_.begin(), held_.end(), 0);
   std::fill(given_up_.begin(), given_up_.end(), 0);
@@ -238,13 +238,7 @@ void ActiveSet<D>::hold_pushes(const Eigen::VectorXd& u_n) {
 
 template <int D>
 void ActiveSet<D>::locate_impacts(double gap_tolerance) {
-  gap_tolerance_.clear();
-  if (!(gap_tolerance > 0.0)) return;
-  for (const std::vector<double>& size : facet_size_) {
-    gap_tolerance_.emplace_back(size.size());
-    std::transform(size.begin(), size.end(), gap_tolerance_.back().begin(),
-                   [&](double h) { return gap_tolerance * h; });
-  }
+  gap_tolerance_ = gap_tolerance > 0.0 ? gap_tolerance : 0.0;
 }
 
 // The path within the step that the mid-point scheme implies is the
@@ -284,7 +278,7 @@ double ActiveSet<D>::split_at(const Constraint<D>& c, const Match<D>& end, const
 
 template <int D>
 double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u) {
-  if (gap_tolerance_.empty() || !allow_splits_) return 1.0;
+  if (!located() || !allow_splits_) return 1.0;
   const Positions<D> x_n = positions(u_n), x = positions(u);
   double fraction = 1.0;
   for_each_match(
@@ -308,8 +302,8 @@ double ActiveSet<D>::facet_size(int pair, int slave) const {
 
 template <int D>
 double ActiveSet<D>::gap_tolerance(int pair, int slave) const {
-  if (gap_tolerance_.empty()) return std::numeric_limits<double>::infinity();
-  return gap_tolerance_[pair][static_cast<std::size_t>(pairs_[pair].slave.local_node(slave))];
+  if (!located()) return std::numeric_limits<double>::infinity();
+  return gap_tolerance_ * facet_size(pair, slave);
 }
 
 template <int D>
@@ -385,7 +379,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   constexpr double inf = std::numeric_limits<double>::infinity();
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   bool changed = false;
-  const bool split = allow_splits_ && !gap_tolerance_.empty();
+  const bool split = allow_splits_ && located();
   std::vector<std::vector<double>> active_gap(pairs_.size());  // per pair, per slave (local)
   for (std::size_t p = 0; p < pairs_.size(); ++p) active_gap[p].assign(pairs_[p].slave.nodes.size(), nan);
   std::vector<Constraint<D>> activated;

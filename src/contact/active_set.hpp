@@ -295,9 +295,10 @@ class ActiveSet {
   /// Per pair, per slave node (local): the longest edge of the slave
   /// facets at the node in the reference configuration [m].
   std::vector<std::vector<double>> facet_size_;
-  /// Per pair, per slave node (local): the largest gap it is activated
-  /// with; empty when impacts are not located.
-  std::vector<std::vector<double>> gap_tolerance_;
+  /// With impacts located, the largest gap a slave is activated with as a
+  /// fraction of its facet size (gap_tolerance()); 0 when they are not.
+  double gap_tolerance_ = 0.0;
+  [[nodiscard]] bool located() const { return gap_tolerance_ > 0.0; }
   bool allow_splits_ = true;
   double dt_ = 0.0;         ///< the step under way (located impacts)
   Eigen::VectorXd v_n_;     ///< velocities at its start (located impacts)
