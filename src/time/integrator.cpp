@@ -63,8 +63,8 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   // as a constant force's response would be, it starts further off: the
   // peer benchmark's split steps then took 1.7 % more solves, where this
   // takes 3 % fewer than the predictor alone (bench/results/speed.md).
-  if (interrupted_.step == state.step && dt < interrupted_.dt)
-    u_np1 += (dt / interrupted_.dt) * interrupted_.correction;
+  const bool retry = interrupted_.step == state.step && dt < interrupted_.dt;
+  if (retry) u_np1 += (dt / interrupted_.dt) * interrupted_.correction;
   interrupted_.step = -1;
   apply_prescribed(assembler_.model().prescribed, t_np1, u_np1);
   stats_ = {};
@@ -89,11 +89,13 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     // its iterate shows the impact (the fraction then comes from it).
     double early_split = 1.0;
     if (contacts_)
-      problem.check_iterate([&](const Eigen::VectorXd& u) {
-        solver::ScopedTimer timer(timings_.contact_search);
-        early_split = contacts_->split_fraction(state.u, u);
-        return early_split < 1.0;
-      });
+      problem.check_iterate(
+          [&](const Eigen::VectorXd& u) {
+            solver::ScopedTimer timer(timings_.contact_search);
+            early_split = contacts_->split_fraction(state.u, u);
+            return early_split < 1.0;
+          },
+          retry ? kSearchRetry : kSearchFirst);
     // A factorization of the plain system stays usable while no constraint
     // is active; a reduced system's T changes from pass to pass.
     const int setups = timings_.linear_setups;

@@ -95,6 +95,15 @@ class Integrator {
     Eigen::VectorXd correction;  ///< its last iterate u_{n+1} − its predictor [m]
   };
   Interrupted interrupted_;
+  /// The relative residual (× the force scale) at which a solve's iterate
+  /// is searched for an impact within the step (StepProblem::abandon). A
+  /// first attempt is searched early: a rough fraction costs at most one
+  /// more split, whereas every solve past it is thrown away with the
+  /// attempt. A retry, already shortened to an estimate, is searched late:
+  /// its fraction decides whether the slave ends the step within its gap
+  /// tolerance (docs/theory.md, "Impacts located in time", 4).
+  static constexpr double kSearchFirst = 1e-2;
+  static constexpr double kSearchRetry = 1e-6;
   bool plain_factorization_ = false;  ///< the solver holds a factorization of the unreduced system
   double nonlinearity_ = -1.0;        ///< the forcing terms' measure of the last solve (solver/newton.hpp)
 

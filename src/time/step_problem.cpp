@@ -52,7 +52,7 @@ void StepProblem<D>::take_scales() {
 
 template <int D>
 bool StepProblem<D>::abandon(double residual, double force_scale) {
-  if (!check_ || checked_ || !(residual <= kCheckResidual * force_scale)) return false;
+  if (!check_ || checked_ || !(residual <= check_at_ * force_scale)) return false;
   checked_ = true;
   return check_(u_np1_);
 }

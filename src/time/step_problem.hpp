@@ -53,13 +53,16 @@ class StepProblem final : public solver::NewtonProblem {
   /// the force scale, or (K_n + W_n + |Π_n|)/|Δu| if larger (infinite when
   /// nothing moves beyond the round-off of the positions: no work is done).
   [[nodiscard]] double floor_scale() const override;
-  /// Once the residual is below kCheckResidual × the force scale, the
-  /// iterate is shown once to the check set by check_iterate(): the
-  /// iteration is abandoned if it returns true.
+  /// Once the residual is below the level set by check_iterate() × the
+  /// force scale, the iterate is shown once to its check: the iteration is
+  /// abandoned if it returns true.
   bool abandon(double residual, double force_scale) override;
-  /// The check of abandon(), given the iterate u_{n+1} (may be empty: none).
-  void check_iterate(std::function<bool(const Eigen::VectorXd&)> check) { check_ = std::move(check); }
-  static constexpr double kCheckResidual = 1e-6;
+  /// The check of abandon(), given the iterate u_{n+1} (may be empty:
+  /// none), and the relative residual at which it is made.
+  void check_iterate(std::function<bool(const Eigen::VectorXd&)> check, double at) {
+    check_ = std::move(check);
+    check_at_ = at;
+  }
   /// The full residual g at the last residual() call: on an active slave,
   /// the contact force it receives (33) [N].
   [[nodiscard]] const Eigen::VectorXd& full_residual() const { return g_; }
@@ -90,6 +93,7 @@ class StepProblem final : public solver::NewtonProblem {
   double floor_ = 0.0;
   solver::Timings* timings_ = nullptr;
   std::function<bool(const Eigen::VectorXd&)> check_;
+  double check_at_ = 0.0;
   bool checked_ = false;
   double unused_ = 0.0;
   double& clock(double solver::Timings::*phase) { return timings_ ? timings_->*phase : unused_; }

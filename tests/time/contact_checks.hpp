@@ -22,9 +22,10 @@ void run_until_contact(ContactRun<D>& run, std::size_t min_active, int max_steps
 /// r(q) = Tᵀ g after the full update by q (step 1, and for frictionless
 /// slaves the mid-point projection and normal correction), on every free,
 /// non-dummy unknown (or, given `nodes`, those of these nodes only), at a
-/// non-converged iterate of the next step. Returns the relative error.
+/// non-converged iterate of the next step, with the step `relative_step` ×
+/// the model's size. Returns the relative error.
 template <int D>
-double reduced_tangent_error(ContactRun<D>& run, const std::vector<int>* nodes = nullptr) {
+double reduced_tangent_error(ContactRun<D>& run, const std::vector<int>* nodes = nullptr, double relative_step = 1e-7) {
   const auto& model = run.problem.model;
   const double dt = run.scenario.time.step;
   Eigen::VectorXd u = run.state.u + dt * run.state.v + 1e-4 * dt * run.state.v.cwiseAbs();  // off the solution
@@ -63,7 +64,7 @@ double reduced_tangent_error(ContactRun<D>& run, const std::vector<int>* nodes =
   } else {
     for (int j = 0; j < model.num_dofs(); ++j) columns.push_back(j);
   }
-  const double h = 1e-7 * model.size();
+  const double h = relative_step * model.size();
   double err = 0.0, scale = 0.0;
   for (int j : columns) {
     if (skip[j]) continue;
