@@ -59,7 +59,31 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
 
 std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<BodySpec>& bodies) {
   std::vector<ContactSpec> contacts;
-  for (const auto& table : top.table_array("contact")) contacts.push_back(parse_contact(table, bodies));
+  const auto tables = top.table_array("contact");
+  for (const auto& table : tables) {
+    ContactSpec c = parse_contact(table, bodies);
+    // Direct elimination holds one side of a pair of surfaces: with both
+    // directions, slaves of each would sit on facets of each other's nodes,
+    // a cycle the elimination cannot order (contact/elimination_impl.hpp).
+    const auto name = [](const std::string& body, const std::string& group) { return body + ":" + group; };
+    const std::string slave = name(c.slave_body, c.slave_group), master = name(c.master_body, c.master_group);
+    for (std::size_t j = 0; j < contacts.size(); ++j) {
+      const std::string earlier_slave = name(contacts[j].slave_body, contacts[j].slave_group);
+      const std::string earlier_master = name(contacts[j].master_body, contacts[j].master_group);
+      if (earlier_slave == slave && earlier_master == master) {
+        table.fail("master", fmt::format("contact[{}] holds the same two surfaces ('{}' on '{}')", j, slave, master),
+                   "each pair of surfaces in one contact");
+      }
+      if (earlier_slave == master && earlier_master == slave) {
+        table.fail("master",
+                   fmt::format("contact[{}] holds the same two surfaces the other way round ('{}' on '{}'); direct "
+                               "elimination holds one side, and nodes of each would be the other's masters",
+                               j, master, slave),
+                   "one direction per pair of surfaces: keep the contact whose slave is the finer mesh");
+      }
+    }
+    contacts.push_back(std::move(c));
+  }
   return contacts;
 }
 
