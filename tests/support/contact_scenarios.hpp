@@ -1,6 +1,7 @@
 #pragma once
 /// Small contact scenarios shared by the contact tests (coarse meshes, short
 /// runs: they are the shortened versions of the examples).
+#include <stdexcept>
 #include <string>
 
 namespace conserve::test {
@@ -148,6 +149,41 @@ slave = "block:xmax"
 master = "wall:xmin"
 kind = "frictionless"
 )";
+}
+
+/// corner_block with a second free elastic wall across y: the block moves
+/// at 1 m/s towards the floor and both walls (1 mm from each), so its
+/// corner node is on three slave surfaces (zmin, xmax, ymax) and meets
+/// three masters. The walls touch along x = 0.051 m; no pair between them.
+inline std::string three_wall_corner_block(double end) {
+  std::string s = corner_block(end);
+  const auto swap = [&s](const std::string& from, const std::string& to) {
+    const auto at = s.find(from);
+    if (at == std::string::npos) throw std::logic_error("three_wall_corner_block: corner_block has no '" + from + "'");
+    s.replace(at, from.size(), to);
+  };
+  swap("velocity = [1.0, 0.0, -1.0]", "velocity = [1.0, 1.0, -1.0]");
+  swap("translate = [0.101, 0.0, 0.05]", "translate = [0.101, -0.05, 0.05]");
+  swap("lx = 0.1\nly = 0.2\nlz = 0.2", "lx = 0.1\nly = 0.3\nlz = 0.2");
+  s += R"([[body]]
+name = "wall2"
+translate = [-0.0745, 0.101, 0.05]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.251
+ly = 0.1
+lz = 0.2
+size = 0.05
+[[contact]]
+slave = "block:ymax"
+master = "wall2:ymin"
+kind = "frictionless"
+)";
+  return s;
 }
 
 }  // namespace conserve::test
