@@ -55,21 +55,21 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   return contact;
 }
 
+std::string slave_name(const ContactSpec& c) { return c.slave_body + ":" + c.slave_group; }
+std::string master_name(const ContactSpec& c) { return c.master_body + ":" + c.master_group; }
+
 }  // namespace
 
 std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<BodySpec>& bodies) {
   std::vector<ContactSpec> contacts;
-  const auto tables = top.table_array("contact");
-  for (const auto& table : tables) {
+  for (const auto& table : top.table_array("contact")) {
     ContactSpec c = parse_contact(table, bodies);
     // Direct elimination holds one side of a pair of surfaces: with both
     // directions, slaves of each would sit on facets of each other's nodes,
     // a cycle the elimination cannot order (contact/elimination_impl.hpp).
-    const auto name = [](const std::string& body, const std::string& group) { return body + ":" + group; };
-    const std::string slave = name(c.slave_body, c.slave_group), master = name(c.master_body, c.master_group);
+    const std::string slave = slave_name(c), master = master_name(c);
     for (std::size_t j = 0; j < contacts.size(); ++j) {
-      const std::string earlier_slave = name(contacts[j].slave_body, contacts[j].slave_group);
-      const std::string earlier_master = name(contacts[j].master_body, contacts[j].master_group);
+      const std::string earlier_slave = slave_name(contacts[j]), earlier_master = master_name(contacts[j]);
       if (earlier_slave == slave && earlier_master == master) {
         table.fail("master", fmt::format("contact[{}] holds the same two surfaces ('{}' on '{}')", j, slave, master),
                    "each pair of surfaces in one contact");
