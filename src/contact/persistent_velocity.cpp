@@ -25,6 +25,32 @@ std::optional<double> energy_scale(double b, double k, double dK) {
   return t;
 }
 
+/// M_AB if every D × D block of M is M_AB times the identity (the
+/// assembler's masses, consistent and lumped); an empty matrix otherwise.
+template <int D>
+SparseMatrix node_mass(const SparseMatrix& M) {
+  if (M.rows() != M.cols() || M.rows() % D != 0) return {};
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int k = 0; k < M.outerSize(); k += D)
+    for (SparseMatrix::InnerIterator it(M, k); it; ++it)
+      if (it.row() % D == 0) entries.emplace_back(static_cast<int>(it.row() / D), k / D, it.value());
+  SparseMatrix node(M.rows() / D, M.cols() / D);
+  node.setFromTriplets(entries.begin(), entries.end());
+  for (int k = 0; k < M.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(M, k); it; ++it) {
+      const bool same = it.row() % D == k % D;
+      if (it.value() != (same ? node.coeff(it.row() / D, k / D) : 0.0)) return {};
+    }
+  // Entries of M_AB that M stores only as zeros would go unchecked above;
+  // the count of M's nonzero values settles it.
+  Eigen::Index nonzero = 0;
+  for (Eigen::Index p = 0; p < M.nonZeros(); ++p) nonzero += M.valuePtr()[p] != 0.0;
+  Eigen::Index node_nonzero = 0;
+  for (Eigen::Index p = 0; p < node.nonZeros(); ++p) node_nonzero += node.valuePtr()[p] != 0.0;
+  if (nonzero != D * node_nonzero) return {};
+  return node;
+}
+
 }  // namespace
 
 template <int D>
@@ -33,6 +59,26 @@ PersistentVelocity<D>::PersistentVelocity(const model::Model<D>& model, const Sp
   for (int k = 0; k < mass.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(mass, k); it; ++it) lumped_[it.row()] += it.value();
   for (int d : model.prescribed.dofs) prescribed_[d] = 1;
+  node_mass_ = node_mass<D>(mass);
+}
+
+template <int D>
+Eigen::VectorXd PersistentVelocity<D>::times_mass(const Eigen::VectorXd& x) const {
+  if (node_mass_.size() == 0) return mass_ * x;
+  const Eigen::Index nodes = node_mass_.rows();
+  Eigen::VectorXd y(x.size());
+  // M_AB symmetric: (M_AB Xᵀ)ᵀ = X M_AB with X the D × nodes view of x.
+  Eigen::Map<Eigen::Matrix<double, D, Eigen::Dynamic>>(y.data(), D, nodes).noalias() =
+      Eigen::Map<const Eigen::Matrix<double, D, Eigen::Dynamic>>(x.data(), D, nodes) * node_mass_;
+  return y;
+}
+
+template <int D>
+Eigen::MatrixXd PersistentVelocity<D>::times_mass(const Eigen::MatrixXd& x) const {
+  if (node_mass_.size() == 0) return mass_ * x;
+  Eigen::MatrixXd y(x.rows(), x.cols());
+  for (Eigen::Index k = 0; k < x.cols(); ++k) y.col(k) = times_mass(Eigen::VectorXd(x.col(k)));
+  return y;
 }
 
 template <int D>
@@ -110,7 +156,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   Eigen::SimplicialLDLT<SparseMatrix> ldlt(S);
   if (ldlt.info() != Eigen::Success) return out;
   const Eigen::MatrixXd R = rigid_modes(x);
-  const Eigen::MatrixXd MR = mass_ * R;
+  const Eigen::MatrixXd MR = times_mass(R);
   const Eigen::MatrixXd LMR = inv_mass.asDiagonal() * MR;  // M_L⁻¹ M R
   const Eigen::MatrixXd E = A * LMR;
   const Eigen::MatrixXd G = MR.transpose() * LMR;
@@ -142,7 +188,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   const Eigen::VectorXd w = v_p - move(alpha, beta2);
   if (!v_p.allFinite() || !w.allFinite()) return out;
 
-  const Eigen::VectorXd Mv = mass_ * v, Mvp = mass_ * v_p, Mw = mass_ * w;
+  const Eigen::VectorXd Mv = times_mass(v), Mvp = times_mass(v_p), Mw = times_mass(w);
   const double K_star = 0.5 * v.dot(Mv), K_p = 0.5 * v_p.dot(Mvp);
   const double dK = K_star - K_p;
   const std::optional<double> t = energy_scale(w.dot(Mvp), w.dot(Mw), dK);  // K(V_p + t w) = K*
@@ -160,13 +206,14 @@ bool PersistentVelocity<D>::restore_energy(const Positions<D>& x, double energy,
   const Eigen::VectorXd v_free = (inv_mass.array() > 0.0).select(v, 0.0);
   // w = V_f − M_L⁻¹ M R β with Rᵀ M w = 0: G β = Rᵀ M V_f.
   const Eigen::MatrixXd R = rigid_modes(x);
-  const Eigen::MatrixXd MR = mass_ * R;
+  const Eigen::MatrixXd MR = times_mass(R);
   const Eigen::MatrixXd LMR = inv_mass.asDiagonal() * MR;
   const Eigen::MatrixXd G = MR.transpose() * LMR;
   const Eigen::VectorXd beta = G.ldlt().solve(MR.transpose() * v_free);
   const Eigen::VectorXd w = v_free - LMR * beta;
   if (!w.allFinite()) return false;
-  const std::optional<double> t = energy_scale(w.dot(mass_ * v), w.dot(mass_ * w), -energy);  // K(V + t w) = K − W
+  const std::optional<double> t =
+      energy_scale(w.dot(times_mass(v)), w.dot(times_mass(w)), -energy);  // K(V + t w) = K − W
   if (!t) return false;
   v += *t * w;
   return true;

@@ -67,8 +67,17 @@ class PersistentVelocity {
   /// then rotations about the centroid.
   [[nodiscard]] Eigen::MatrixXd rigid_modes(const Positions<D>& x) const;
 
+  /// M x and M X (column by column), through the nodes' scalar mass
+  /// when M has the form M_AB ⊗ I_D.
+  [[nodiscard]] Eigen::VectorXd times_mass(const Eigen::VectorXd& x) const;
+  [[nodiscard]] Eigen::MatrixXd times_mass(const Eigen::MatrixXd& x) const;
+
   const model::Model<D>& model_;
   const SparseMatrix& mass_;
+  /// M_AB (nodes × nodes) if M = M_AB ⊗ I_D, as the assembler makes it,
+  /// consistent or lumped; empty otherwise. A product with it reads
+  /// 1/D² of M's entries.
+  SparseMatrix node_mass_;
   Eigen::VectorXd lumped_;      ///< per dof: the row sum of M (the lumped mass)
   std::vector<char> prescribed_;  ///< per dof
 };

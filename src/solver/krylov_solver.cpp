@@ -237,27 +237,34 @@ struct KrylovSolver::Petsc {
 
   /// CSR of the d × d blocks holding an entry (a block's missing entries
   /// are stored zeros); to[k] is where CSC entry k goes: SeqBAIJ keeps each
-  /// block column-major, after the blocks before it.
+  /// block column-major, after the blocks before it. Two passes over the
+  /// block columns in ascending order, as new_scalar_pattern: the first
+  /// counts each block row's blocks, the second hands out their slots in
+  /// the order their columns come, so each row's columns come out sorted
+  /// and every entry finds its block without a search.
   void new_block_pattern(int d, int nodes) {
-    std::vector<std::vector<PetscInt>> rows(nodes);  // block columns of each block row
+    std::vector<PetscInt> seen(nodes, -1);  // the last block column that met each block row
+    row_start.assign(nodes + 1, 0);
+    for (int J = 0; J < nodes; ++J)
+      for (int k = outer[J * d]; k < outer[(J + 1) * d]; ++k)
+        if (const int I = inner[k] / d; seen[I] != J) seen[I] = J, ++row_start[I + 1];
+    for (int I = 0; I < nodes; ++I) row_start[I + 1] += row_start[I];
+    column.resize(row_start[nodes]);
+    to.resize(inner.size());
+    std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1);
+    std::vector<PetscInt> slot(nodes, -1);  // block column J's block in each row it meets
+    std::fill(seen.begin(), seen.end(), -1);
     for (int J = 0; J < nodes; ++J)
       for (int j = J * d; j < (J + 1) * d; ++j)
         for (int k = outer[j]; k < outer[j + 1]; ++k) {
-          auto& r = rows[inner[k] / d];
-          if (r.empty() || r.back() != J) r.push_back(J);  // J ascends: sorted, unique
+          const int I = inner[k] / d;
+          if (seen[I] != J) {
+            seen[I] = J;
+            slot[I] = next[I]++;
+            column[slot[I]] = J;
+          }
+          to[k] = static_cast<int>(slot[I] * d * d + (j % d) * d + inner[k] % d);
         }
-    row_start.assign(nodes + 1, 0);
-    for (int I = 0; I < nodes; ++I) row_start[I + 1] = row_start[I] + static_cast<PetscInt>(rows[I].size());
-    column.resize(row_start[nodes]);
-    for (int I = 0; I < nodes; ++I) std::copy(rows[I].begin(), rows[I].end(), column.begin() + row_start[I]);
-    to.resize(inner.size());
-    for (int j = 0; j < nodes * d; ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k) {
-        const int I = inner[k] / d, J = j / d;
-        const PetscInt* all = column.data();
-        const PetscInt block = std::lower_bound(all + row_start[I], all + row_start[I + 1], J) - all;
-        to[k] = static_cast<int>(block * d * d + (j % d) * d + inner[k] % d);
-      }
   }
 
   void set_rigid_body_modes(int dim) {
