@@ -7,32 +7,46 @@
 # is written.
 #
 # Usage: bash bench/run_located.sh [--no-build] [--cases "cube ball s61 s62"]
-#                                  [--threads N]
+#                                  [--threads N] [--pairs N]
 #   --cases    which cases (default all four):
 #                cube  bench/cube/febio_cube.toml (the peer benchmark)
 #                ball  examples/ball/ball_on_plane.toml (§6.3)
 #                s61   examples/cylinders/three_cylinders.toml (§6.1)
 #                s62   examples/cylinders/two_hollow_cylinders.toml (§6.2)
 #   --threads  OMP_NUM_THREADS of every run (default 1)
+#   --pairs    run each case's two variants N times side by side (both at
+#              once, so they share the machine's state; needs 2 × threads
+#              cores) and give the median ratio and its range over the N
+#              pairs. On a shared VM the speed drifts by ±10 % from minute
+#              to minute, more than a one-at-a-time ratio can tell apart.
+#              Default: one run of each, one at a time.
 #   --no-build do not run scripts/build.sh; use build/release/conserve (or
 #              the binary named by $CONSERVE)
 #
-# Runs are one at a time, without VTU output (--set output.vtu_every=0), in
-# $BENCH_WORK (default out/bench/located). Table:
-# bench/results/located_table.md (and .json). About 4 minutes for all four
-# on one thread of this project's reference machine.
+# Runs are without VTU output (--set output.vtu_every=0), in $BENCH_WORK
+# (default out/bench/located). Table: bench/results/located_table.md (and
+# .json). About 4 minutes for all four on one thread of this project's
+# reference machine, one at a time; with --pairs N about N × 2.5 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build=1
 cases="cube ball s61 s62"
 threads=1
+pairs=0
 while [ $# -gt 0 ]; do
+  case "$1" in
+    --cases | --threads | --pairs)
+      [ $# -ge 2 ] || { echo "run_located.sh: $1 needs a value (see --help)" >&2; exit 2; } ;;
+  esac
   case "$1" in
     --no-build) build=0 ;;
     --cases) cases="$2"; shift ;;
     --threads) threads="$2"; shift ;;
-    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
+    --pairs)
+      pairs="$2"; shift
+      case "$pairs" in *[!0-9]* | 0) echo "run_located.sh: --pairs needs a positive integer, got '$pairs'" >&2; exit 2 ;; esac ;;
+    -h|--help) sed -n '2,29p' "$0"; exit 0 ;;
     *) echo "run_located.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -60,40 +74,68 @@ mkdir -p "$work"
 cp "$bin" "$work/conserve"
 
 located=(--set active_set.scheme=persistent --set active_set.locate_impacts=true)
+run_one() {  # case variant file out
+  local extra=()
+  [ "$2" = located ] && extra=("${located[@]}")
+  OMP_NUM_THREADS="$threads" "$work/conserve" run "$3" -q -o "$4" --set output.vtu_every=0 "${extra[@]}" \
+    > "$4.log" 2>&1 || { echo "run_located.sh: $1 $2 failed, see $4.log" >&2; return 1; }
+}
 runs=()
 for c in $cases; do
   file=$(file_of "$c")
-  for variant in plain located; do
-    out="$work/${c}_${variant}"
-    extra=()
-    [ "$variant" = located ] && extra=("${located[@]}")
-    echo "run_located.sh: $c $variant ($file)"
-    OMP_NUM_THREADS="$threads" "$work/conserve" run "$file" -q -o "$out" --set output.vtu_every=0 "${extra[@]}" \
-      > "$out.log" 2>&1 || { echo "run_located.sh: $c $variant failed, see $out.log" >&2; exit 1; }
-    runs+=("$c:$variant:$out/summary.json")
-  done
+  if [ "$pairs" -eq 0 ]; then
+    for variant in plain located; do
+      out="$work/${c}_${variant}"
+      echo "run_located.sh: $c $variant ($file)"
+      run_one "$c" "$variant" "$file" "$out" || exit 1
+      runs+=("$c:$variant:0:$out/summary.json")
+    done
+  else
+    for ((k = 1; k <= pairs; ++k)); do
+      echo "run_located.sh: $c, pair $k of $pairs ($file)"
+      run_one "$c" plain "$file" "$work/${c}_plain_$k" & first=$!
+      run_one "$c" located "$file" "$work/${c}_located_$k" & second=$!
+      wait "$first" || exit 1
+      wait "$second" || exit 1
+      for variant in plain located; do runs+=("$c:$variant:$k:$work/${c}_${variant}_$k/summary.json"); done
+    done
+  fi
 done
 
 mkdir -p bench/results
-/usr/bin/python3 - "$threads" "${runs[@]}" <<'EOF'
-import json, sys
+/usr/bin/python3 - "$threads" "$pairs" "${runs[@]}" <<'EOF'
+import json, statistics, sys
 
-threads, runs = sys.argv[1], sys.argv[2:]
-rows = []
+threads, pairs, runs = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
+keys = ("steps", "cutbacks", "impact_splits", "wall_seconds", "energy_drift", "max_active_gap", "min_active_gap",
+        "max_penetration", "activations", "releases", "chatter", "loaded_releases", "pushes", "creases")
+every = []
 for run in runs:
-    case, variant, path = run.split(":", 2)
+    case, variant, pair, path = run.split(":", 3)
     with open(path) as f:
         s = json.load(f)
-    rows.append({"case": case, "variant": variant, **{k: s[k] for k in (
-        "steps", "cutbacks", "impact_splits", "wall_seconds", "energy_drift", "max_active_gap", "min_active_gap",
-        "max_penetration", "activations", "releases", "chatter", "loaded_releases", "pushes", "creases")}})
+    every.append({"case": case, "variant": variant, **{k: s[k] for k in keys}})
+# One row per case and variant: the figures of its last run (the work does
+# not depend on the machine: every run of a variant gives the same), the
+# median of its walls, and the median and range of the pairs' ratios.
+rows = {}
+for r in every:
+    row = rows.setdefault((r["case"], r["variant"]), {"walls": []})
+    row.update(r)
+    row["walls"].append(r["wall_seconds"])
+for row in rows.values():
+    row["wall_seconds"] = statistics.median(row["walls"])
+    base = rows.get((row["case"], "plain"))
+    row["ratios"] = [w / b for w, b in zip(row["walls"], base["walls"])] if base and row is not base else []
 with open("bench/results/located_table.json", "w") as f:
-    json.dump({"threads": int(threads), "runs": rows}, f, indent=1)
+    json.dump({"threads": int(threads), "pairs": pairs, "runs": list(rows.values())}, f, indent=1)
 
+how = (f"each case's two variants side by side, {pairs} pairs: wall is the median, ratio the median of the "
+       "pairs' ratios with their range" if pairs else "one run at a time")
 lines = [
     "# Paper scheme against located impacts + persistent velocity",
     "",
-    f"Written by `bash bench/run_located.sh` (OMP_NUM_THREADS={threads}, one run at a time). "
+    f"Written by `bash bench/run_located.sh` (OMP_NUM_THREADS={threads}, {how}). "
     "`located` adds `--set active_set.scheme=persistent --set active_set.locate_impacts=true`. "
     "Gaps are over the active slaves at step ends; `behind` is the deepest slave behind its master at a step end.",
     "",
@@ -101,12 +143,11 @@ lines = [
     "| behind [m] | activations / releases / chatter / loaded | push-outs | crease pairs |",
     "|---|---|---|---|---|---|---|---|---|---|---|",
 ]
-plain_wall = {}
-for r in rows:
-    if r["variant"] == "plain":
-        plain_wall[r["case"]] = r["wall_seconds"]
-    base = plain_wall.get(r["case"])
-    ratio = f"{r['wall_seconds'] / base:.2f}" if base else "–"
+for r in rows.values():
+    ratios = r["ratios"]
+    ratio = f"{statistics.median(ratios):.2f}" if ratios else ("1.00" if r["variant"] == "plain" else "–")
+    if len(ratios) > 1:
+        ratio += f" ({min(ratios):.2f}–{max(ratios):.2f})"
     lines.append(
         f"| {r['case']} | {r['variant']} | {r['steps']} ({r['cutbacks']}, {r['impact_splits']}) "
         f"| {r['wall_seconds']:.1f} | {ratio} | {r['energy_drift']:.1e} "
