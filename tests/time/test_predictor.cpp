@@ -181,12 +181,22 @@ TEST(RigidMotion, StartsAVibratingBodyCloserToItsStep) {
 // deformation velocity (Constraint::push): K falls by exactly that work,
 // L and J (Σ_A x_A × (M V)_A, the consistent mass) are untouched, and an
 // amount above what the deformation velocity can give is refused with V
-// left as it was.
+// left as it was. The update multiplies by M through the nodes' scalar
+// mass when M = M_AB ⊗ I_D, as the assembler's is; `coupled` adds a
+// coupling between two components of one node, so that the general
+// product is taken instead, and must keep the same properties.
 template <int D>
-void check_restore_energy() {
+void check_restore_energy(bool coupled = false) {
   test::ContactRun<D> run(two_bodies(D));
   const auto& model = run.problem.model;
-  const SparseMatrix& M = run.assembler->mass();
+  SparseMatrix M = run.assembler->mass();
+  if (coupled) {
+    const double m = 0.1 * M.coeff(0, 0);
+    const std::vector<Eigen::Triplet<double>> coupling{{0, 1, m}, {1, 0, m}};
+    SparseMatrix C(M.rows(), M.cols());
+    C.setFromTriplets(coupling.begin(), coupling.end());
+    M += C;
+  }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   const Eigen::VectorXd u = Eigen::VectorXd::NullaryExpr(model.num_dofs(), [&] { return 0.01 * uniform(rng); });
@@ -228,6 +238,7 @@ void check_restore_energy() {
 
 TEST(PersistentVelocity, RestoreEnergyKeepsMomenta2d) { check_restore_energy<2>(); }
 TEST(PersistentVelocity, RestoreEnergyKeepsMomenta3d) { check_restore_energy<3>(); }
+TEST(PersistentVelocity, RestoreEnergyKeepsMomentaWithAMassNotOfNodalForm) { check_restore_energy<3>(true); }
 
 }  // namespace
 }  // namespace conserve::time
