@@ -95,7 +95,8 @@ for c in $cases; do
       echo "run_located.sh: $c, pair $k of $pairs ($file)"
       run_one "$c" plain "$file" "$work/${c}_plain_$k" & first=$!
       run_one "$c" located "$file" "$work/${c}_located_$k" & second=$!
-      wait "$first" || exit 1
+      # A failed run ends the script without leaving its partner running.
+      wait "$first" || { kill "$second" 2> /dev/null; exit 1; }
       wait "$second" || exit 1
       for variant in plain located; do runs+=("$c:$variant:$k:$work/${c}_${variant}_$k/summary.json"); done
     done
