@@ -115,6 +115,34 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
   start_mean_force_ = active_.empty() ? 0.0 : sum / static_cast<double>(active_.size());
 }
 
+// A step's normal force is its mean over the step, f(t) at about the
+// step's middle. A slave lets go in the first step whose mean is
+// tensile, and the force that measures its release (loaded_releases) is
+// the mean of the step before, which is of order (rate of fall) × (that
+// step). With f falling linearly at rate r from f_N at the middle of the
+// last step (length h), the next step's mean stays ≥ 0 for steps up to
+// 2 f_N / r − h. Where that is within kReleaseHorizon full steps, the next
+// step is a kReleaseApproach part of it: the steps shrink geometrically
+// towards the lift-off, which a step then meets with a force of about
+// kReleaseUnloading × (the loaded threshold) left in the step before.
+template <int D>
+double ActiveSet<D>::release_step(std::int64_t step, double full, double last, double previous) const {
+  if (active_.empty() || !(last > 0.0) || !(previous > 0.0)) return full;
+  double sum = 0.0;
+  for (const Constraint<D>& c : active_) sum += c.normal_force;
+  const double loaded = kLoadedFraction * sum / static_cast<double>(active_.size());
+  double next = full;
+  for (const Constraint<D>& c : active_) {
+    if (c.activated_step >= step || !(c.normal_force > loaded)) continue;
+    const double rate = (c.start_force - c.normal_force) / (0.5 * (previous + last));  // −df/dt
+    if (!(rate > 0.0)) continue;
+    const double ahead = 2.0 * c.normal_force / rate - last;
+    if (ahead > kReleaseHorizon * full) continue;
+    next = std::min({next, 2.0 * last, std::max(kReleaseApproach * ahead, kReleaseUnloading * loaded / rate)});
+  }
+  return std::max(next, full / kReleaseShortest);
+}
+
 template <int D>
 Elimination<D> ActiveSet<D>::elimination(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
                                          std::shared_ptr<TangentReduction<D>> reduction) {

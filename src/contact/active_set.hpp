@@ -96,6 +96,20 @@ inline constexpr int kChatterWindow = 10;
 /// previous step was above this fraction of the mean force then.
 inline constexpr double kLoadedFraction = 0.01;
 
+/// Releases located in time (ActiveSet::release_step): where a pressing
+/// slave's force, falling at its rate over the last two steps, would turn
+/// tensile within this many full steps, the next step is shortened ...
+inline constexpr double kReleaseHorizon = 4.0;
+/// ... to this fraction of the longest step whose mean force would stay
+/// ≥ 0, so that the steps shrink geometrically towards the lift-off, ...
+inline constexpr double kReleaseApproach = 0.25;
+/// ... but not below the step over which the force falls by this fraction
+/// of the loaded threshold (kLoadedFraction of the mean force), nor below
+/// 1/kReleaseShortest of the scenario's step, and to at most twice the
+/// last step.
+inline constexpr double kReleaseUnloading = 0.5;
+inline constexpr double kReleaseShortest = 256.0;
+
 /// What ActiveSet::update did to the set.
 enum class SetChange {
   none,     ///< settled: the solve is the step's
@@ -175,6 +189,15 @@ class ActiveSet {
   /// Whether update() may ask for a split (the stepper forbids it once a
   /// step has been split too often or would become too short).
   void allow_splits(bool allow) { allow_splits_ = allow; }
+  /// Releases located in time ([active_set] locate_releases): after step
+  /// `step`, of length `last`, which followed one of length `previous`, the
+  /// longest next step (at most `full`, the scenario's) for which no
+  /// active slave that pressed with more than kLoadedFraction of the mean
+  /// force is expected to let go more than about kReleaseUnloading of
+  /// that threshold late. Its force's rate of fall is taken from its force
+  /// at the ends of the two steps (Constraint::start_force, normal_force);
+  /// slaves activated in step `step` have none and are left out.
+  [[nodiscard]] double release_step(std::int64_t step, double full, double last, double previous) const;
   /// The largest gap slave node `slave` of pair `pair` is activated with
   /// when impacts are located [m] (+∞ when they are not).
   [[nodiscard]] double gap_tolerance(int pair, int slave) const;

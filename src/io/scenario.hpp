@@ -84,6 +84,9 @@ struct ActiveSetSpec {
   /// the slave off and each return is another split (docs/validation.md §7).
   bool locate_impacts = false;
   double gap_tolerance = 1e-3;
+  /// Shorten the steps ahead of a predicted lift-off, so that a slave lets
+  /// go with almost no force left (contact::ActiveSet::release_step).
+  bool locate_releases = false;
 };
 
 /// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for

@@ -93,6 +93,7 @@ ActiveSetSpec parse_active_set(const Section& active_set) {
   spec.scheme = active_set.string("scheme") == "persistent" ? ContactScheme::persistent : ContactScheme::paper;
   spec.locate_impacts = active_set.boolean("locate_impacts");
   spec.gap_tolerance = active_set.number("gap_tolerance");
+  spec.locate_releases = active_set.boolean("locate_releases");
   return spec;
 }
 

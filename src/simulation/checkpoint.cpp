@@ -25,8 +25,9 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// their work in the run's totals. 8: the crease pairs formed
 /// (contact::ActiveSet::crease) in the run's totals. 9: the constraints'
 /// given-up push-outs (contact::Constraint::hold) and their count in the
-/// run's totals.
-constexpr std::uint32_t kVersion = 9;
+/// run's totals. 10: the constraints' force at the start of their last
+/// step and the lengths of the last two steps (located releases).
+constexpr std::uint32_t kVersion = 10;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -104,6 +105,7 @@ void write_constraint(Writer& w, const contact::Constraint<D>& c) {
   w.value(c.gap);
   w.value(static_cast<std::int64_t>(c.activated_step));
   w.value(c.normal_force);
+  w.value(c.start_force);
   w.value(static_cast<std::int32_t>(c.hold));
 }
 
@@ -121,6 +123,7 @@ contact::Constraint<D> read_constraint(Reader& r, int num_nodes) {
   c.gap = r.template value<double>();
   c.activated_step = r.template value<std::int64_t>();
   c.normal_force = r.template value<double>();
+  c.start_force = r.template value<double>();
   const auto hold = r.template value<std::int32_t>();
   bool nodes_ok = c.slave >= 0 && c.slave < num_nodes;
   for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
@@ -277,6 +280,8 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
   w.value(static_cast<std::int64_t>(c.control.cutbacks));
+  w.value(c.control.last_dt);
+  w.value(c.control.previous_dt);
   write_totals(w, c.totals);
   w.value(static_cast<std::uint64_t>(c.constraints.size()));
   for (const auto& constraint : c.constraints) write_constraint<D>(w, constraint);
@@ -321,12 +326,16 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
   c.control.cutbacks = r.value<std::int64_t>();
+  c.control.last_dt = r.value<double>();
+  c.control.previous_dt = r.value<double>();
   c.totals = read_totals(r);
   const auto count = r.value<std::uint64_t>();
   if (count > static_cast<std::uint64_t>(model.num_nodes())) r.fail("more constraints than nodes");
   for (std::uint64_t i = 0; i < count; ++i) c.constraints.push_back(read_constraint<D>(r, model.num_nodes()));
   if (!r.at_end()) r.fail("trailing bytes after the constraints");
-  if (c.state.step < 0 || c.control.cutbacks < 0 || !(c.control.dt > 0.0)) r.fail("bad step or step size");
+  if (c.state.step < 0 || c.control.cutbacks < 0 || !(c.control.dt > 0.0) || !(c.control.last_dt >= 0.0) ||
+      !(c.control.previous_dt >= 0.0))
+    r.fail("bad step or step size");
   return c;
 }
 

@@ -57,6 +57,11 @@ struct StepControl {
   double dt = 0.0;            ///< the step size to try next [s]
   int good_steps = 0;         ///< converged steps since the last change of dt
   std::int64_t cutbacks = 0;  ///< failed attempts over the run
+  /// The lengths of the last two steps taken [s] (0 before there are
+  /// any): with releases located, the rate a slave's force falls at
+  /// (contact::ActiveSet::release_step).
+  double last_dt = 0.0;
+  double previous_dt = 0.0;
 };
 
 template <int D>

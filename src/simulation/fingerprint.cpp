@@ -152,6 +152,7 @@ Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& 
   // max_passes does not, unless a step fails: it may be raised to get past one)
   f.setting("[active_set] scheme", sc.active_set.scheme == io::ContactScheme::persistent ? "persistent" : "paper");
   f.setting("[active_set] locate_impacts", sc.active_set.locate_impacts ? "true" : "false");
+  f.setting("[active_set] locate_releases", sc.active_set.locate_releases ? "true" : "false");
   f.add("[active_set] gap_tolerance", fmt::format("{}", sc.active_set.gap_tolerance),
         [&](Hasher& h) { h.value(sc.active_set.gap_tolerance); });
   f.setting("contact pairs", fmt::format("{}", sc.contacts.size()));

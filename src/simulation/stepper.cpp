@@ -60,6 +60,10 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
   // whatever is left of the step that was cut. The last step ends at the
   // end time.
   double dt = control_.dt;
+  if (scenario_.active_set.locate_releases)  // shorter ahead of a lift-off, not below the floor
+    dt = std::max(
+        std::min(dt, contacts_->release_step(state.step, scenario_.time.step, control_.last_dt, control_.previous_dt)),
+        std::min(dt, scenario_.time.min_step));
   const double left = scenario_.time.end - state.time;
   if (left < dt * (1.0 - 1e-9)) dt = left;
   int splits = 0, split_passes = 0;
@@ -84,6 +88,8 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       stats.splits = splits;
       stats.split_passes = split_passes;
       StepRecord record{report, stats};
+      control_.previous_dt = control_.last_dt;
+      control_.last_dt = dt;
       if (++control_.good_steps >= StepControl::kGrowAfter && control_.dt < scenario_.time.step) {
         control_.dt = std::min(2.0 * control_.dt, scenario_.time.step);
         control_.good_steps = 0;

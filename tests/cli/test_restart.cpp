@@ -62,6 +62,27 @@ void expect_identical_after_restart(const std::string& name, const std::string& 
     EXPECT_NE(f.path().extension(), ".tmp") << f.path();
 }
 
+/// The rows of a run's steps.csv: step, time and dt of each step taken.
+struct StepRow {
+  int step = 0;
+  double time = 0.0, dt = 0.0;
+};
+std::vector<StepRow> step_rows(const fs::path& steps_csv) {
+  std::istringstream rows(slurp(steps_csv));
+  std::string line;
+  std::getline(rows, line);  // header
+  std::vector<StepRow> out;
+  while (std::getline(rows, line)) {
+    StepRow r;
+    if (std::sscanf(line.c_str(), "%d,%lf,%lf", &r.step, &r.time, &r.dt) != 3) {
+      ADD_FAILURE() << "a malformed row of " << steps_csv << ": " << line;
+      break;
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
 TEST(Restart, FrictionlessContactHistoryIsBitIdentical) {
   // Checkpoint 30 has three slaves in contact, released after the restart.
   expect_identical_after_restart("restart_discs", kGlancingDiscs, 35, 30);
@@ -83,19 +104,33 @@ TEST(Restart, LocatedImpactHistoryIsBitIdentical) {
   write_file(dir / "s.toml", scenario);
   ASSERT_EQ(run_cli("run s.toml -q -o probe", dir).exit_code, 0);
   // The first step that ends off the grid of Δt = 5e-4 s: a cut step.
-  std::istringstream rows(slurp(dir / "probe/steps.csv"));
-  std::string line;
-  std::getline(rows, line);  // header
   int cut = -1;
-  while (cut < 0 && std::getline(rows, line)) {
-    int step = 0;
-    double time = 0.0;
-    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%lf", &step, &time), 2) << line;
-    const double on_grid = std::round(time / 5e-4) * 5e-4;
-    if (std::abs(time - on_grid) > 1e-9) cut = step;
-  }
+  for (const StepRow& r : step_rows(dir / "probe/steps.csv"))
+    if (cut < 0 && std::abs(r.time - std::round(r.time / 5e-4) * 5e-4) > 1e-9) cut = r.step;
   ASSERT_GT(cut, 0) << "no step was cut short at an impact";
   expect_identical_after_restart("restart_located", scenario, cut + 3, cut);
+}
+
+// With releases located, the steps ahead of a lift-off are shortened from
+// the rate at which each slave's force fell over the last two steps: a run
+// restarted within such a stretch needs those forces and step lengths
+// from its checkpoint to go on exactly as the run that wrote it.
+TEST(Restart, LocatedReleaseHistoryIsBitIdentical) {
+  const std::string scenario = block_on_plane("stick", 0.06) +
+                               "[active_set]\nscheme = \"persistent\"\nlocate_releases = true\n"
+                               "[output]\nvtu_every = 0\ncheckpoint_every = 1\ncheckpoint_keep = 0\n";
+  const auto dir = scratch("restart_released_probe");
+  write_file(dir / "s.toml", scenario);
+  ASSERT_EQ(run_cli("run s.toml -q -o probe", dir).exit_code, 0);
+  // The second step in a row shorter than Δt = 1 ms: one whose length came
+  // from the forces of the steps before it.
+  int shortened = -1, in_a_row = 0;
+  for (const StepRow& r : step_rows(dir / "probe/steps.csv")) {
+    in_a_row = r.dt > 0.0 && r.dt < 0.999e-3 ? in_a_row + 1 : 0;
+    if (shortened < 0 && in_a_row == 2) shortened = r.step;
+  }
+  ASSERT_GT(shortened, 0) << "no step was shortened ahead of a lift-off";
+  expect_identical_after_restart("restart_released", scenario, shortened + 3, shortened);
 }
 
 // A slave whose push-out was given up stays held after a restart

@@ -45,16 +45,22 @@ TEST(Checkpoint, StepBeyondThirtyTwoBitsRoundTrips) {
   EXPECT_EQ(back.state.v, c.state.v);
 }
 
-// A constraint whose push-out was given up stays held after a restart
-// (contact::Constraint::hold), and the run's count of them carries on.
-TEST(Checkpoint, ConstraintsKeepWhetherTheyHold) {
-  const auto dir = test::scratch("checkpoint_hold");
-  const model::Model<2> model = three_nodes();
+/// A checkpoint of three_nodes() at rest, Δt = 1 ms, with no constraint.
+Checkpoint<2> at_rest() {
   Checkpoint<2> c;
   c.fingerprint = {{"dimension", 2, "2"}};
   c.state.u = Eigen::VectorXd::Zero(6);
   c.state.v = Eigen::VectorXd::Zero(6);
   c.control.dt = 1e-3;
+  return c;
+}
+
+// A constraint whose push-out was given up stays held after a restart
+// (contact::Constraint::hold), and the run's count of them carries on.
+TEST(Checkpoint, ConstraintsKeepWhetherTheyHold) {
+  const auto dir = test::scratch("checkpoint_hold");
+  const model::Model<2> model = three_nodes();
+  Checkpoint<2> c = at_rest();
   c.totals.pushes_given_up = 3;
   for (const bool hold : {true, false}) {
     contact::Constraint<2> k;
@@ -76,6 +82,31 @@ TEST(Checkpoint, ConstraintsKeepWhetherTheyHold) {
   EXPECT_EQ(back.totals.pushes_given_up, 3);
 }
 
+// With releases located, the next step's length comes from each slave's
+// force at the ends of its last two steps and from those steps' lengths
+// (contact::ActiveSet::release_step): all four come back from a checkpoint.
+TEST(Checkpoint, KeepsWhatLocatedReleasesPredictFrom) {
+  const auto dir = test::scratch("checkpoint_release_rates");
+  const model::Model<2> model = three_nodes();
+  Checkpoint<2> c = at_rest();
+  c.control.last_dt = 2.5e-4;
+  c.control.previous_dt = 5e-4;
+  contact::Constraint<2> k;
+  k.slave = 0;
+  k.facet = 1;
+  k.master = {1, 2};
+  k.normal_force = 0.125;
+  k.start_force = 0.375;
+  c.constraints.push_back(k);
+  write_checkpoint<2>(checkpoint_path(dir, 0), c);
+  const Checkpoint<2> back = read_checkpoint<2>(checkpoint_path(dir, 0), c.fingerprint, model);
+  EXPECT_EQ(back.control.last_dt, 2.5e-4);
+  EXPECT_EQ(back.control.previous_dt, 5e-4);
+  ASSERT_EQ(back.constraints.size(), 1U);
+  EXPECT_EQ(back.constraints[0].normal_force, 0.125);
+  EXPECT_EQ(back.constraints[0].start_force, 0.375);
+}
+
 TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
   // Version 1 stored 32-bit steps: its files are refused with the versions.
   const auto dir = test::scratch("checkpoint_version_1");
@@ -91,7 +122,7 @@ TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
     FAIL() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), (dir / "old.bin").string() +
-                                         ": bad checkpoint: format version 1, this conserve reads version 9 only "
+                                         ": bad checkpoint: format version 1, this conserve reads version 10 only "
                                          "(restart with the conserve that wrote it, or run from the start)");
   }
 }

@@ -52,6 +52,47 @@ kind = ")" + kind + R"("
 )";
 }
 
+/// A block (0.4 × 0.4 × 0.2 m, E = 1 MPa) set unstressed on a rigid plane
+/// under gravity: it settles and vibrates on its support with a period of
+/// about 25 ms, and the bottom nodes at its edges lift near each minimum of
+/// the reaction. Δt = 1 ms.
+inline std::string block_on_plane(const std::string& kind, double end) {
+  return R"(dimension = 3
+[time]
+step = 1e-3
+end = )" +
+         std::to_string(end) +
+         R"(
+[loads]
+gravity = [0.0, 0.0, -9.81]
+[[body]]
+name = "block"
+translate = [0.0, 0.0, 0.1]
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.4
+ly = 0.4
+lz = 0.2
+size = 0.05
+[[body]]
+name = "plane"
+rigid = true
+[body.mesh]
+generator = "square"
+lx = 1.0
+ly = 1.0
+size = 0.25
+[[contact]]
+slave = "block:zmin"
+master = "plane:surface"
+kind = ")" +
+         kind + "\"\n";
+}
+
 /// Two free deformable boxes (no gravity, nothing fixed): a small one hits
 /// a bigger one off-centre, so that the impact also spins them.
 inline std::string two_boxes(const std::string& kind, double end) {
