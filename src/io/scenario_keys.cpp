@@ -406,8 +406,8 @@ SectionSpec active_set_section() {
                .doc = "shorten the steps ahead of a lift-off: where the force of a slave in contact, falling at its "
                       "rate over the last two steps, would reach zero within four steps, the steps shrink towards "
                       "that time, so that it lets go with less than about 1 % of the mean force left in the step "
-                      "before rather than a step's unloading late (docs/theory.md), and grow back after it; use "
-                      "it with `scheme = \"persistent\"`; `false`: the scenario's step throughout"},
+                      "before rather than a step's unloading late (docs/theory.md), and grow back after it; needs "
+                      "`scheme = \"persistent\"`; `false`: the scenario's step throughout"},
           }};
 }
 

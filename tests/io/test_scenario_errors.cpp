@@ -45,6 +45,13 @@ TEST(ScenarioErrors, UnknownKeyInMaterial) {
                          "unknown key 'youngs' (expected one of: young, poisson, density)"));
 }
 
+TEST(ScenarioErrors, LocatedReleasesNeedThePersistentVelocity) {
+  EXPECT_TRUE(fails_with(minimal("[active_set]\nlocate_releases = true\n"), 13, "active_set.locate_releases",
+                         "needs scheme = \"persistent\""));
+  EXPECT_NO_THROW(
+      parse_scenario(minimal("[active_set]\nscheme = \"persistent\"\nlocate_releases = true\n"), case_file()));
+}
+
 TEST(ScenarioErrors, UnknownTopLevelTable) {
   EXPECT_TRUE(fails_with(minimal("[tiem]\nstep = 1\n"), 12, "tiem", "unknown key 'tiem' (expected one of: title,"));
 }
