@@ -77,30 +77,95 @@ TEST(BarImpact, TwoBars3d) {
 // Measured (default meshes, 100 steps per 2L/c): 2D 99 steps paper, 100
 // located + persistent; 3D 102 and 104; exit v_A/v0 −0.009 / −0.010 (2D),
 // −0.015 / −0.016 (3D).
+struct ShortBarRun {
+  double t99 = 0.0;     ///< time to pass on 99 % of A's momentum [s]
+  double exit_a = 0.0;  ///< v_A / v0 at the end
+  double total = 0.0;   ///< (L_A + L_B − m_A v0) / (m_A v0): round-off
+  double t_ref = 0.0;   ///< 2L/c, L the short bar's length [s]
+  double step = 0.0;    ///< Δt [s]
+};
+
+const char* const kLocatedSet = "scheme = \"persistent\"\nlocate_impacts = true";
+
+/// The short bar hitting the long one, the gap v0 Δt (10 + φ) (φ = 0: the
+/// default bars, which meet at a step's end), measured the same way for the
+/// paper's scheme and for located + persistent.
+ShortBarRun run_short_bar(int dim, double phi, bool located) {
+  Bars bars;
+  bars.dimension = dim;
+  if (dim == 3) bars.size = 0.05;
+  bars.lengths = {0.5, 1.0};
+  bars.gap = bars.v0 * bars.step * (10.0 + phi);
+  if (located) bars.active_set = kLocatedSet;
+  const BarHistory h = dim == 2 ? run_bars<2>(bars) : run_bars<3>(bars);
+  const double p = bars.mass(0) * bars.v0;
+  ShortBarRun r;
+  r.t99 = transfer_time(h, bars, 1, 0.99);
+  r.exit_a = h.momentum.back()[0] / p;
+  r.total = (h.momentum.back()[0] + h.momentum.back()[1] - p) / p;
+  r.t_ref = 2.0 * bars.shortest() / bars.wave_speed();
+  r.step = bars.step;
+  std::printf(
+      "[ measured ] short bar hits long bar %dD, phase %.3f, %s: 99 %% of the momentum passed in %.1f steps "
+      "(0.99 x 2L/c = %.1f steps); exit v_A/v0 %+.4f; %d activations, %d releases\n",
+      dim, phi, located ? "located + persistent" : "paper", r.t99 / r.step, 0.99 * r.t_ref / r.step, r.exit_a,
+      h.activations, h.releases);
+  return r;
+}
+
+/// The bounds on one short-bar run: momentum kept, exit velocity
+/// within 2 %, 99 % passed on within a step of 0.99 × 2L/c in 2D (20
+/// elements along the short bar) and within five in 3D (10: the mesh's
+/// dispersion spreads the returning front over several steps).
+void expect_short_bar_bounds(const ShortBarRun& r, int dim, const char* what) {
+  EXPECT_LT(std::abs(r.total), 1e-11) << dim << "D " << what;  // 3D: 1.3e-12 (sums over 2·10³ nodes)
+  EXPECT_LT(std::abs(r.exit_a), 0.02) << dim << "D " << what;
+  EXPECT_LE(std::abs(r.t99 - 0.99 * r.t_ref), (dim == 2 ? 1.0 : 5.0) * r.step * (1 + 1e-9)) << dim << "D " << what;
+}
+
 TEST(BarImpact, ShortBarHitsLongBar) {
+  for (int dim : {2, 3})
+    for (bool located : {false, true})
+      expect_short_bar_bounds(run_short_bar(dim, 0.0, located), dim, located ? "located" : "paper");
+}
+
+/// The short bar over 8 impact phases (CONSERVE_LONG_TESTS=1; about 20 s).
+/// Unlike the equal bars (ImpactPhaseSweep*), the located pair's exit
+/// velocity here depends on the phase as the paper's does: it is set by the
+/// light touches when the long bar's dispersive tail comes back (1D theory:
+/// none), whose timing within a step the phase moves.
+/// Measured 2026-11-27 (|exit v_A/v0|, paper / located): 2D worst 0.0091 /
+/// 0.0100, mean 0.0054 / 0.0059; 3D worst 0.0149 / 0.0164, mean 0.0123 /
+/// 0.0125; located the larger at 6 of 8 phases in each. Steps to pass on
+/// 99 %, worst over the phases (0.99 × 2L/c = 99): 2D 100 / 100, 3D 105 /
+/// 104. The bounds are asserted for the located pair at every
+/// phase (the paper's 3D duration leaves the mesh's five steps at two
+/// phases); which exit velocity is the smaller is printed, not asserted
+/// (docs/validation.md §7).
+TEST(BarImpact, ShortBarPhaseSweepLong) {
+  if (!long_tests()) GTEST_SKIP() << "set CONSERVE_LONG_TESTS=1";
+  constexpr int kPhases = 8;
   for (int dim : {2, 3}) {
-    for (const char* set : {"", "scheme = \"persistent\"\nlocate_impacts = true"}) {
-      Bars bars;
-      bars.dimension = dim;
-      if (dim == 3) bars.size = 0.05;
-      bars.lengths = {0.5, 1.0};
-      bars.active_set = set;
-      const BarHistory h = dim == 2 ? run_bars<2>(bars) : run_bars<3>(bars);
-      const double t_ref = 2.0 * bars.shortest() / bars.wave_speed();
-      const double t99 = transfer_time(h, bars, 1, 0.99);
-      const double p = bars.mass(0) * bars.v0;
-      const double exit_a = h.momentum.back()[0] / p;
-      const double total = (h.momentum.back()[0] + h.momentum.back()[1] - p) / p;
-      std::printf("[ measured ] short bar hits long bar %dD, %s: 99 %% of the momentum passed in %.1f steps "
-                  "(0.99 x 2L/c = %.1f steps); exit v_A/v0 %+.4f; %d activations, %d releases\n",
-                  dim, *set ? "located + persistent" : "paper", t99 / bars.step, 0.99 * t_ref / bars.step, exit_a,
-                  h.activations, h.releases);
-      EXPECT_LT(std::abs(total), 1e-11) << dim << "D " << set;  // 3D: 1.3e-12 (sums over 2·10³ nodes)
-      EXPECT_LT(std::abs(exit_a), 0.02) << dim << "D " << set;
-      // 2D has 20 elements along the short bar, 3D 10: the 3D mesh's
-      // dispersion spreads the returning front over several steps.
-      EXPECT_LE(std::abs(t99 - 0.99 * t_ref), (dim == 2 ? 1.0 : 5.0) * bars.step * (1 + 1e-9)) << dim << "D " << set;
+    double worst[2] = {0, 0}, mean[2] = {0, 0}, late[2] = {0, 0};
+    int located_worse = 0;
+    for (int k = 0; k < kPhases; ++k) {
+      const double phi = static_cast<double>(k) / kPhases;
+      double exit[2];
+      for (int located = 0; located < 2; ++located) {
+        const ShortBarRun r = run_short_bar(dim, phi, located == 1);
+        if (located) expect_short_bar_bounds(r, dim, "located");
+        EXPECT_LT(std::abs(r.total), 1e-11) << dim << "D phase " << phi;
+        exit[located] = std::abs(r.exit_a);
+        worst[located] = std::max(worst[located], exit[located]);
+        mean[located] += exit[located] / kPhases;
+        late[located] = std::max(late[located], std::abs(r.t99 - 0.99 * r.t_ref) / r.step);
+      }
+      if (exit[1] > exit[0]) ++located_worse;
     }
+    std::printf(
+        "[ measured ] short bar %dD over %d phases: |exit v_A/v0| worst paper %.4f, located %.4f; mean paper %.4f, "
+        "located %.4f; located the larger at %d phases; |t99 - 0.99 x 2L/c| at most %.1f / %.1f steps\n",
+        dim, kPhases, worst[0], worst[1], mean[0], mean[1], located_worse, late[0], late[1]);
   }
 }
 
@@ -113,7 +178,7 @@ TEST(BarImpact, MidStepImpactLocated) {
   for (const auto& [dim, size] : {std::pair{2, 0.025}, std::pair{3, 0.05}, std::pair{3, 0.025}}) {
     Errors paper, located;
     const bool fine = size <= 0.025;
-    for (const char* set : {"", "scheme = \"persistent\"\nlocate_impacts = true"}) {
+    for (const char* set : {"", kLocatedSet}) {
       Bars bars;
       bars.dimension = dim;
       bars.size = size;
@@ -159,7 +224,7 @@ void sweep_phases(int dim, double size, int phases) {
       bars.dimension = dim;
       bars.size = size;
       bars.gap = bars.v0 * bars.step * (10.0 + phi);
-      if (located) bars.active_set = "scheme = \"persistent\"\nlocate_impacts = true";
+      if (located) bars.active_set = kLocatedSet;
       char label[64];
       std::snprintf(label, sizeof label, "phase %.3f, %s", phi, located ? "located" : "paper");
       const Errors e = dim == 2 ? check_two_bars<2>(bars, label) : check_two_bars<3>(bars, label);
@@ -202,7 +267,6 @@ TEST(BarImpact, ImpactPhaseSweep3dFineLong) {
 /// mean over phases 0.0154 / 0.0159 at Δt, 0.0161 / 0.0172 at Δt/4.
 TEST(BarImpact, TimeStepStudyLong) {
   if (!long_tests()) GTEST_SKIP() << "set CONSERVE_LONG_TESTS=1";
-  const char* located_set = "scheme = \"persistent\"\nlocate_impacts = true";
   constexpr int kPhases = 4;
   for (int dim : {2, 3}) {
     for (double step : {1e-5, 5e-6, 2.5e-6, 1.25e-6}) {
@@ -214,7 +278,7 @@ TEST(BarImpact, TimeStepStudyLong) {
           if (dim == 3) bars.size = 0.05;
           bars.step = step;
           bars.gap = bars.v0 * (10.0 * Bars{}.step + step * k / kPhases);  // Δt_0: the default step
-          if (located) bars.active_set = located_set;
+          if (located) bars.active_set = kLocatedSet;
           const Errors e = dim == 2 ? check_two_bars<2>(bars, located ? "dt study, located" : "dt study, paper")
                                     : check_two_bars<3>(bars, located ? "dt study, located" : "dt study, paper");
           // The tolerances hold for the new pair at every Δt; the
@@ -228,7 +292,7 @@ TEST(BarImpact, TimeStepStudyLong) {
         if (dim == 3) bars.size = 0.05;
         bars.step = step;
         bars.lengths = {0.5, 1.0};
-        if (located) bars.active_set = located_set;
+        if (located) bars.active_set = kLocatedSet;
         const BarHistory h = dim == 2 ? run_bars<2>(bars) : run_bars<3>(bars);
         const double p = bars.mass(0) * bars.v0;
         short_exit[located] = h.momentum.back()[0] / p;
