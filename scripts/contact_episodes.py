@@ -16,6 +16,10 @@ at a step's end where `contact_normal_force` is a number (NaN elsewhere).
   counts it in history.csv (above 1 % is "loaded"). A node whose force falls
   continuously to zero before it lifts carries O(Δt) there; a reversing
   velocity leaves a jump that does not shrink with Δt (docs/validation.md §6).
+- A loaded release of a node that was active for one step only is a
+  *landing*: the force it is measured by is its landing's impulse over that
+  step, which no choice of steps makes small. `--list` prints every loaded
+  release with its step, node, steps active and force over the mean.
 
 Activations and releases within one step are not seen here (the program's
 own counts in summary.json include them).
@@ -67,10 +71,12 @@ def normal_forces(path):
 
 
 def measure(files):
+    """Bounces, and each release as (step, node, steps active, force / mean)."""
     bounces, releases = [], []
     previous = normal_forces(files[0])
+    since = {int(k): 0 for k in (~numpy.isnan(previous)).nonzero()[0]}  # node: step of its activation
     bounce = None
-    for path in files[1:]:
+    for step, path in enumerate(files[1:], start=1):
         forces = normal_forces(path)
         if forces.shape != previous.shape:
             fail(f"{path}: {forces.size} nodes, the step before had {previous.size}")
@@ -79,7 +85,9 @@ def measure(files):
         mean = float(active_before.mean()) if active_before.size else 0.0
         released = [int(k) for k in (was & ~now).nonzero()[0]]
         for k in released:
-            releases.append(previous[k] / mean if mean > 0.0 else math.nan)
+            releases.append((step, k, step - since.pop(k), previous[k] / mean if mean > 0.0 else math.nan))
+        for k in (now & ~was).nonzero()[0]:
+            since[int(k)] = step
         if now.any() and bounce is None:
             bounce = {"steps": 0, "activations": {}, "releases": 0}
         if bounce is not None:
@@ -100,7 +108,8 @@ def measure(files):
 def summarise(files, bounces, releases):
     episodes = sum(len(b["activations"]) for b in bounces)
     activations = sum(sum(b["activations"].values()) for b in bounces)
-    measured = sorted(r for r in releases if not math.isnan(r))
+    measured = sorted(r[3] for r in releases if not math.isnan(r[3]))
+    loaded = [r for r in releases if r[3] > 0.01]
     return {
         "steps": len(files) - 1,
         "bounces": [
@@ -111,7 +120,9 @@ def summarise(files, bounces, releases):
         "activations": activations,
         "returns": activations - episodes,
         "releases": len(releases),
-        "loaded_releases": sum(1 for r in measured if r > 0.01),
+        "loaded_releases": len(loaded),
+        "loaded_landings": sum(1 for r in loaded if r[2] == 1),
+        "loaded": [{"step": r[0], "node": r[1], "steps_active": r[2], "force_over_mean": r[3]} for r in loaded],
         "release_force_median": measured[len(measured) // 2] if measured else None,
         "release_force_max": measured[-1] if measured else None,
     }
@@ -121,6 +132,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("output_dir")
     parser.add_argument("--json", action="store_true", help="print the figures as one JSON object")
+    parser.add_argument("--list", action="store_true", help="print every loaded release")
     args = parser.parse_args()
     files = step_files(args.output_dir)
     s = summarise(files, *measure(files))
@@ -132,8 +144,13 @@ def main():
         print(f"  {b['steps']}, {b['nodes']}, {b['activations']}, {b['releases']}")
     print(f"node episodes {s['node_episodes']}, activations {s['activations']}, returns {s['returns']}")
     if s["releases"]:
-        print(f"releases {s['releases']}, loaded (> 1 % of the mean force before) {s['loaded_releases']}; "
+        print(f"releases {s['releases']}, loaded (> 1 % of the mean force before) {s['loaded_releases']}, "
+              f"of which landings (active one step) {s['loaded_landings']}; "
               f"force before / mean: median {s['release_force_median']:.3g}, largest {s['release_force_max']:.3g}")
+        if args.list:
+            for r in s["loaded"]:
+                print(f"  step {r['step']}, node {r['node']}: active {r['steps_active']} steps, "
+                      f"force before / mean {r['force_over_mean']:.3g}")
     else:
         print("no releases")
 

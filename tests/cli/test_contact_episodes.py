@@ -80,6 +80,11 @@ class Synthetic(unittest.TestCase):
         self.assertAlmostEqual(s["release_force_max"], 4.0 / 3.0, places=12)
         self.assertAlmostEqual(s["release_force_median"], 1.0, places=12)
         self.assertEqual(s["loaded_releases"], 4)
+        # node 0 was active in steps 1-2, then in step 4 alone (a landing);
+        # node 1 in steps 2-4; node 2 in step 6 alone (a landing)
+        self.assertEqual([(r["step"], r["node"], r["steps_active"]) for r in s["loaded"]],
+                         [(3, 0, 2), (5, 0, 1), (5, 1, 3), (7, 2, 1)])
+        self.assertEqual(s["loaded_landings"], 2)
 
     def test_text_report_names_the_figures(self):
         with tempfile.TemporaryDirectory() as tmp:
@@ -90,6 +95,16 @@ class Synthetic(unittest.TestCase):
         self.assertIn("1 bounces", done.stdout)
         self.assertIn("returns 0", done.stdout)
         self.assertIn("releases 1,", done.stdout)
+        self.assertIn("of which landings (active one step) 1", done.stdout)
+        self.assertNotIn("  step ", done.stdout)
+
+    def test_list_prints_each_loaded_release(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            folder = pathlib.Path(tmp)
+            write_series(folder, [[NAN, NAN], [1.0, 1.0], [1.0, 3.0], [NAN, 3.0]])
+            done = episodes(folder, "--list")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertIn("  step 3, node 0: active 2 steps, force before / mean 0.5", done.stdout)
 
 
 class BadFolders(unittest.TestCase):
