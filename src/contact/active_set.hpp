@@ -1,8 +1,9 @@
 #pragma once
-/// The active set (ALGORITHM.md §7): after each converged solve of a step,
-/// release the constraints whose slave pulls on its master (f_N = g_s·n < 0,
-/// (46)/(65)) and activate every slave found behind a master facet
-/// (g_N,n+1 < 0), including slaves released earlier in the step: a slave
+/// The active set (docs/theory.md, "The step with contact"): after each
+/// converged solve of a step, release the constraints whose slave pulls on
+/// its master (f_N = g_s·n < 0, (46)/(65)) and activate every slave found
+/// behind a master facet (g_N,n+1 < 0), including slaves released earlier in
+/// the step: a slave
 /// released and then found behind its master is re-activated and held
 /// until the step ends (its force may then be tensile for that step), so
 /// that no slave ends a converged step behind its master. A slave is

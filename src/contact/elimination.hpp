@@ -1,9 +1,9 @@
 #pragma once
-/// Direct elimination of the active slaves' unknowns (ALGORITHM.md §4–§6,
-/// paper (35), (41), (43)–(45), (49), (56)–(64); docs/theory.md). The
-/// reduced unknowns q have the size of u; a slave's slots hold its slip
-/// increments (frictionless: Δξ[, Δη]) and dummies with zero right-hand
-/// side, so the number of equations never changes. Two maps:
+/// Direct elimination of the active slaves' unknowns (paper (35), (41),
+/// (43)–(45), (49), (56)–(64); docs/theory.md, "Direct elimination
+/// (33)–(65)"). The reduced unknowns q have the size of u; a slave's slots
+/// hold its slip increments (frictionless: Δξ[, Δη]) and dummies with zero
+/// right-hand side, so the number of equations never changes. Two maps:
 ///   trial T: the slave's first-order motion, Δu = T q. Stick: the slave
 ///     moves with its point of the master facet's frame, F(x_m) =
 ///     N(ξ̄) x_m + γ n(x_m), (35); frictionless: with the end facet's point

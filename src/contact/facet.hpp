@@ -1,9 +1,9 @@
 #pragma once
 /// Geometry of one linear master facet (a 2-node segment in 2D, a 3-node
 /// triangle in 3D) and the closest-point projection of a slave point on it
-/// (ALGORITHM.md §3, paper (27)–(29)). Free functions in derivative
-/// families: value, `_gradient` (with respect to y = (x_s, x_0, …, x_{D−1}),
-/// D(D+1) entries, slave first).
+/// (paper (27)–(29); docs/theory.md, "Contact geometry (27)–(29)"). Free
+/// functions in derivative families: value, `_gradient` (with respect to y =
+/// (x_s, x_0, …, x_{D−1}), D(D+1) entries, slave first).
 #include <vector>
 
 #include "core/types.hpp"

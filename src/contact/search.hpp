@@ -1,7 +1,8 @@
 #pragma once
 /// Narrow phase: which master facet a slave point belongs to, with the rules
-/// ALGORITHM.md §3 and §7 add to the paper (projections on edges and
-/// vertices, convex corners, far-side facets, facet switching).
+/// the paper does not give (projections on edges and vertices, convex
+/// corners, far-side facets, facet switching; docs/theory.md, "Contact
+/// geometry (27)–(29)" and "The step with contact").
 #include <optional>
 
 #include "contact/broad_phase.hpp"

@@ -1,6 +1,7 @@
 #pragma once
 /// Element kernels of the energy–momentum conserving mid-point step
-/// (ALGORITHM.md §2, paper (20)–(26); Simo & Tarnow 1992).
+/// (paper (18)–(26); Simo & Tarnow 1992; docs/theory.md, "The conserving
+/// step (18)–(26)").
 ///
 /// For a step from positions x_n to x_{n+1} of one cell:
 ///   F_{n+½} = ½(F_n + F_{n+1})
@@ -34,7 +35,8 @@ struct CellStart {
 template <int D>
 CellStart<D> cell_start(const SimplexGeometry<D>& g, const NodeMatrix<D>& x_n);
 
-/// Internal force f (column A = f_A) [N], paper (20) with ALGORITHM §2.
+/// Internal force f (column A = f_A) [N] of the paper's residual (20), with
+/// the conserving stress of docs/theory.md, "The conserving step (18)–(26)".
 template <int D>
 NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
                              StressScheme scheme);

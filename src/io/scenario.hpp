@@ -48,8 +48,9 @@ struct BodySpec {
   Eigen::Matrix3d initial_deformation = Eigen::Matrix3d::Identity();
   double thickness = 1.0;  ///< out-of-plane thickness in 2D (plane strain) [m]
   /// All degrees of freedom prescribed: u(t) = velocity·t (the body moves
-  /// rigidly; its material is not used). Rigid bodies may have surface-only
-  /// meshes (no cells), e.g. the generators `square` and `segment`.
+  /// rigidly; its material is not used). Only a rigid body may be a bare
+  /// surface (no cells), made by the generators `square` and `segment`; a
+  /// mesh file must hold cells (mesh/msh_reader.cpp).
   bool rigid = false;
 };
 
@@ -71,7 +72,7 @@ struct ContactSpec {
   double depth_factor = 0.5;
 };
 
-/// Active-set control (ALGORITHM.md §7).
+/// Active-set control (docs/theory.md, "The step with contact").
 struct ActiveSetSpec {
   int max_passes = 30;  ///< solves of one step before giving up on a changing active set
   /// `persistent`: after each step the relative velocity of the active

@@ -1,5 +1,5 @@
 #pragma once
-/// Saint Venant–Kirchhoff hyperelasticity (ALGORITHM.md §1):
+/// Saint Venant–Kirchhoff hyperelasticity (docs/theory.md, "Material"):
 ///   E = ½(FᵀF − 1),  S = λ tr(E) 1 + 2μ E,  ρ0Ψ = ½ E:ℂ:E,  P = F S.
 /// In 2D the same formulas hold in plane strain (E_i3 = 0) with the 3D λ.
 #include "core/types.hpp"

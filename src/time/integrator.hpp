@@ -31,7 +31,8 @@ class Integrator {
   /// Advances `state` by `dt` [s]: the predictor (set_predictor) with prescribed
   /// values at t_{n+1} and the active constraints enforced, Newton on the
   /// reduced system, the active-set update and, if the set changed, the same
-  /// step again (ALGORITHM.md §7); then V_{n+1} = (2/Δt)Δu − V_n (19).
+  /// step again (docs/theory.md, "The step with contact"); then
+  /// V_{n+1} = (2/Δt)Δu − V_n (19).
   /// The report's iterations count all passes. Throws SolverError naming
   /// the step if Newton does not converge (and why), if the active set does
   /// not settle in max_passes, or if a cell ends the step inverted

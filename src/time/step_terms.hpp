@@ -66,7 +66,8 @@ class Inertia final : public StepTerm<D> {
 };
 
 /// f_int(u_n, u_{n+1}) of the chosen stress scheme, (17) (conserving: S
-/// from the mid-point strain, Gonzalez's correction; ALGORITHM.md §2).
+/// from the mid-point strain, Gonzalez's correction; docs/theory.md,
+/// "The conserving step (18)–(26)").
 /// Derivative: the element tangents.
 template <int D>
 class InternalForce final : public StepTerm<D> {

@@ -1,8 +1,8 @@
-// The direct-elimination map T (ALGORITHM.md §4): Δu_s = N Δu_m (35) or
-// N Δu_m + τ Δξ (49), chains by substitution, cycles refused, the reduced
-// residual (41), the dummy diagonal β = tr(K_ss)/D (44), and the reduced
-// tangent's Wᵀ K T (43) against the plain matrix products, with its pattern
-// kept between calls.
+// The direct-elimination map T (docs/theory.md, "Direct elimination
+// (33)–(65)"): Δu_s = N Δu_m (35) or N Δu_m + τ Δξ (49), chains by
+// substitution, cycles refused, the reduced residual (41), the dummy diagonal
+// β = tr(K_ss)/D (44), and the reduced tangent's Wᵀ K T (43) against the
+// plain matrix products, with its pattern kept between calls.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

@@ -1,4 +1,5 @@
-// Conservation of the mid-point scheme without contact (ALGORITHM.md §2):
+// Conservation of the mid-point scheme without contact (paper (18)–(26);
+// docs/theory.md, "The conserving step (18)–(26)"):
 // free bodies conserve E, L and J to the Newton tolerance; under gravity E
 // (with Π_ext) is conserved; the plain mid-point stress is shown not to be.
 #include <gtest/gtest.h>

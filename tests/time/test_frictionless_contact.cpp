@@ -1,7 +1,8 @@
 // Frictionless contact by direct elimination with slip unknowns (paper
-// §4.3.2–4.3.3, ALGORITHM.md §6, docs/theory.md): consistent tangent on a
-// curved faceted master, conservation of E, L and J through impact and
-// separation, each active slave's held gap to round-off, no penetration.
+// §4.3.2–4.3.3, (47)–(65); docs/theory.md, "Direct elimination (33)–(65)"):
+// consistent tangent on a curved faceted master, conservation of E, L and J
+// through impact and separation, each active slave's held gap to round-off,
+// no penetration.
 #include <gtest/gtest.h>
 
 #include <algorithm>

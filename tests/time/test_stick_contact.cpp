@@ -1,5 +1,6 @@
-// Full stick contact by direct elimination (paper §4.3.1, ALGORITHM.md §4,
-// §5, §7): tangent, energy and momentum, no penetration, release.
+// Full stick contact by direct elimination (paper §4.3.1, (35)–(46);
+// docs/theory.md, "Direct elimination (33)–(65)" and "The step with
+// contact"): tangent, energy and momentum, no penetration, release.
 #include <gtest/gtest.h>
 
 #include <cstdio>
