@@ -48,16 +48,20 @@ void print_summary(const RunSummary& s) {
   if (s.activations + s.releases > 0)
     fmt::print(
         "contact: {} activations, {} releases ({} held after a release), largest gap at activation {:.3e} m; "
-        "active gaps {:.3e} to {:.3e} m; deepest penetration {:.3e} m\n",
+        "active gaps {:.3e} to {:.3e} m; deepest penetration {:.3e} m (slave nodes behind master facets {:.3e} m, "
+        "master nodes behind slave facets {:.3e} m)\n",
         s.activations, s.releases, s.held, s.max_activation_gap, s.min_active_gap, s.max_active_gap,
-        s.max_penetration);
+        s.max_penetration(), s.slave_penetration, s.master_penetration);
   if (s.pushes_given_up > 0)
     fmt::print(
         "contact: {} push-out(s) given up, their work more than the bodies could give back: slaves that came in "
         "behind a master beyond its border, through a face that is no master, were held where they were (down to "
         "{:.3e} m); history.csv's pushes_given_up says when. Make those faces masters too.\n",
         s.pushes_given_up, s.min_active_gap);
-  fmt::print("output: {}/history.csv, {}/solution.pvd\n", s.output_directory.string(), s.output_directory.string());
+  fmt::print("output: {}/history.csv, {}/solution.pvd", s.output_directory.string(), s.output_directory.string());
+  if (s.earlier_files_removed > 0)
+    fmt::print(" ({} files of an earlier run in that folder removed first)", s.earlier_files_removed);
+  fmt::print("\n");
 }
 
 void print_check(const std::string& file, const CheckSummary& s) {
@@ -118,13 +122,19 @@ int main(int argc, char** argv) {
   }
   return guarded([&] {
     const conserve::io::Scenario scenario = conserve::io::read_scenario(scenario_file, overrides);
-    if (*check) return print_check(scenario_file, conserve::simulation::check(scenario));
+    const auto warn = [](const std::string& w) { fmt::print(stderr, "conserve: warning: {}\n", w); };
+    if (*check) {
+      const conserve::simulation::CheckSummary s = conserve::simulation::check(scenario);
+      for (const std::string& w : s.warnings) warn(w);
+      return print_check(scenario_file, s);
+    }
     conserve::solver::set_blas_threads(blas_threads);
     conserve::simulation::RunOptions options;
     if (!output_dir.empty()) options.output_directory = output_dir;
     if (quiet) options.progress = nullptr;
     if (steps >= 0) options.max_steps = steps;
     if (!restart_file.empty()) options.restart = restart_file;
+    options.warn = warn;
     print_summary(conserve::simulation::run(scenario, options));
   });
 }

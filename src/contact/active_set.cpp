@@ -22,6 +22,24 @@ std::vector<double> longest_edges(const ContactSurface& surface, const Positions
   return size;
 }
 
+/// `pair` the other way round: its master surface's nodes searched against
+/// its slave surface's facets by the same rules, the broad phase's radius
+/// from the slave facets' longest edge (as make_contact_pairs sets it from
+/// the master's).
+template <int D>
+ContactPair<D> reversed(const ContactPair<D>& pair, const Positions<D>& x) {
+  ContactPair<D> r;
+  r.slave = pair.master;
+  r.master = pair.slave;
+  r.kind = pair.kind;
+  r.search = pair.search;
+  const std::vector<double> edges = longest_edges<D>(r.master, x);
+  const double longest = edges.empty() ? 0.0 : *std::max_element(edges.begin(), edges.end());
+  r.search.search_distance = r.search.depth_factor * longest;
+  r.tree.build(r.master.facets, x);
+  return r;
+}
+
 }  // namespace
 
 template <int D>
@@ -37,6 +55,7 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
   for (auto& pair : pairs_) {
     pair.tree.build(pair.master.facets, x);
     facet_size_.push_back(longest_edges<D>(pair.slave, x));
+    reversed_.push_back(reversed<D>(pair, x));
   }
   slot_.assign(model.num_nodes(), -1);
   index_active();
@@ -399,7 +418,7 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
 // One search of every slave at x_{n+1} serves two ends: the inactive
 // slaves found behind a master facet are activated, and the contact
 // geometry of the pass (deepest penetration, active gaps) is recorded by
-// the rules of max_penetration() and active_gaps(); when nothing changes,
+// the rules of slave_penetration() and active_gaps(); when nothing changes,
 // this pass's u_{n+1} is the step's end and so is that geometry.
 template <int D>
 SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1,
@@ -429,7 +448,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
     min_gap = std::min(min_gap, gap);
     max_gap = std::max(max_gap, gap);
   }
-  stats.max_penetration = deepest;
+  stats.slave_penetration = deepest;
   const bool none = min_gap > max_gap;
   stats.min_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : min_gap;
   stats.max_active_gap = none ? std::numeric_limits<double>::quiet_NaN() : max_gap;
@@ -517,7 +536,21 @@ double ActiveSet<D>::push_out(const Constraint<D>& c, const Positions<D>& x_a, c
 }
 
 template <int D>
-Penetration ActiveSet<D>::max_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n) {
+Penetration ActiveSet<D>::master_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd& u_n) {
+  const Positions<D> x = positions(u), x_n = positions(u_n);
+  Penetration deepest;
+  for (ContactPair<D>& r : reversed_) {
+    r.refit(x);
+    const std::vector<Vec<D>> normals = node_normals<D>(r.slave, x);
+    for (std::size_t i = 0; i < r.slave.nodes.size(); ++i)
+      if (const auto match = search(r, i, x, normals[i], &x_n); match && -match->projection.gap > deepest.depth)
+        deepest = {-match->projection.gap, r.slave.nodes[i]};
+  }
+  return deepest;
+}
+
+template <int D>
+Penetration ActiveSet<D>::slave_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n) {
   const Positions<D> x = positions(u);
   const Positions<D> x_n = u_n ? positions(*u_n) : Positions<D>();
   Penetration deepest;

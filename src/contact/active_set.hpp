@@ -63,9 +63,11 @@ struct StepContactStats {
   int creases = 0;
   double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   /// At the end of the step: the deepest slave behind a master facet,
-  /// active or not (0 if none), and the extreme gaps of the active slaves
-  /// (NaN if none) [m].
-  double max_penetration = 0.0;
+  /// active or not (0 if none), the deepest master node behind a slave
+  /// facet (0 if none; one-pass contact does not stop it), and the extreme
+  /// gaps of the active slaves (NaN if none) [m].
+  double slave_penetration = 0.0;
+  double master_penetration = 0.0;
   double min_active_gap = std::numeric_limits<double>::quiet_NaN();
   double max_active_gap = std::numeric_limits<double>::quiet_NaN();
 };
@@ -118,7 +120,8 @@ enum class SetChange {
   split,    ///< an impact within the step: end the step earlier (StepContactStats::split_fraction)
 };
 
-/// The deepest penetration found by ActiveSet::max_penetration.
+/// The deepest penetration found by ActiveSet::slave_penetration or
+/// ActiveSet::master_penetration.
 struct Penetration {
   double depth = 0.0;  ///< ≥ 0 [m]
   int node = -1;       ///< global slave node, −1 if none
@@ -158,7 +161,7 @@ class ActiveSet {
 
   /// After a converged solve of u_n → u_{n+1} with full residual g: updates
   /// the set (then solve the step again if it changed). Sets the stats'
-  /// end-of-step geometry (max_penetration, active gaps) at u_{n+1} for
+  /// end-of-step geometry (slave_penetration, active gaps) at u_{n+1} for
   /// the set after its releases, from the same search as the activations:
   /// when the set did not change, that is the step's end. With impacts
   /// located, a slave found behind its master that started the step
@@ -219,9 +222,15 @@ class ActiveSet {
   /// also a facet beyond the border entered through in the step, as the
   /// step's own search and its reported StepContactStats do); depth 0 and
   /// node −1 if none.
-  [[nodiscard]] Penetration max_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n = nullptr);
+  [[nodiscard]] Penetration slave_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n = nullptr);
+  /// The other way: the deepest master surface node behind a facet of its
+  /// pair's slave surface at displacements u (the step from u_n), by the
+  /// same rules, prescribed nodes included. Node-to-segment contact holds
+  /// slaves only: a master finer than its slave may sink its nodes into
+  /// the slave's facets, and this measures how far.
+  [[nodiscard]] Penetration master_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd& u_n);
   /// The smallest and largest gap of the active slaves at displacements u,
-  /// each measured on the master surface as max_penetration does (on its
+  /// each measured on the master surface as slave_penetration does (on its
   /// constraint's facet if that search finds none).
   [[nodiscard]] ActiveGaps active_gaps(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n = nullptr);
 
@@ -296,6 +305,9 @@ class ActiveSet {
 
   const model::Model<D>& model_;
   std::vector<ContactPair<D>> pairs_;
+  /// Per pair, the pair the other way round (master nodes against slave
+  /// facets), searched only to measure master_penetration.
+  std::vector<ContactPair<D>> reversed_;
   std::vector<Constraint<D>> active_;
   std::vector<double> normal_forces_;
   std::vector<char> count_;                   ///< per node: active constraints it is the slave of (0–2)

@@ -69,7 +69,26 @@ toml::table override_value(const std::string& value) {
   return toml::parse("v = \"" + quoted + "\"", std::string_view(source));
 }
 
-/// Applies the `--set` overrides to the parsed file (read_scenario).
+/// The entry of the array of tables `array` (at `prefix`, e.g. "body")
+/// that override part `part` selects: an index ("0") or the value of an
+/// entry's `name` key ("ball").
+toml::table& select_entry(toml::array& array, const std::string& part, const std::string& prefix,
+                          const std::string& item) {
+  const bool index = std::all_of(part.begin(), part.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  std::string names;
+  for (std::size_t k = 0; k < array.size(); ++k) {
+    toml::table& entry = *array.get(k)->as_table();
+    const auto* name = entry.get_as<std::string>("name");
+    if (index ? std::to_string(k) == part : name && name->get() == part) return entry;
+    if (name) names += fmt::format("{}'{}'", names.empty() ? "" : ", ", name->get());
+  }
+  throw InputError(fmt::format(
+      "--set '{}': {} has no entry {} (expected an index 0 to {}{}{})", item, prefix,
+      index ? "number " + part : "named '" + part + "'", array.size() - 1, names.empty() ? "" : " or a name: ", names));
+}
+
+/// Applies the `--set` overrides to the parsed file (read_scenario). A part
+/// after an array of tables selects one of its entries (select_entry).
 void apply_overrides(toml::table& root, const std::vector<std::string>& overrides) {
   for (const std::string& item : overrides) {
     if (item.find_first_of("\n\r") != std::string::npos)
@@ -89,14 +108,53 @@ void apply_overrides(toml::table& root, const std::vector<std::string>& override
         made.get("v")->visit([&](auto&& v) { table->insert(parts[k], std::move(v)); });
       }
       toml::node& node = *table->get(parts[k]);
+      if (node.is_array_of_tables()) {
+        if (k + 2 >= parts.size())
+          throw InputError(fmt::format(
+              "--set '{}': {} is an array of tables [[{}]] (expected {}.NAME.KEY=VALUE or {}.INDEX.KEY=VALUE, "
+              "e.g. body.ball.material.young=1e7, contact.0.kind=stick)",
+              item, prefix, parts[k], parts[k], parts[k]));
+        table = &select_entry(*node.as_array(), parts[k + 1], prefix, item);
+        prefix += "." + parts[++k];
+        continue;
+      }
       if (!node.is_table())
-        throw InputError(fmt::format("--set '{}': {} is {}, not a table (--set reaches the keys of tables{})", item,
-                                     prefix, detail::type_of(node),
-                                     node.is_array_of_tables() ? ", not those of [[...]] entries" : ""));
+        throw InputError(fmt::format("--set '{}': {} is {}, not a table (--set reaches the keys of tables)", item,
+                                     prefix, detail::type_of(node)));
       table = node.as_table();
     }
     toml::table value = override_value(item.substr(eq + 1));
+    if (toml::node* old = table->get(parts.back()); old && old->is_array_of_tables())
+      throw InputError(fmt::format("--set '{}': {} is an array of tables [[{}]]; --set changes the keys of its "
+                                   "entries (e.g. {}.0.KEY=VALUE), not the array",
+                                   item, prefix.empty() ? parts.back() : prefix + "." + parts.back(), parts.back(),
+                                   parts.back()));
     value.get("v")->visit([&](auto&& v) { table->insert_or_assign(parts.back(), std::move(v)); });
+  }
+}
+
+/// Records where every table and key under `table` (at `prefix`) was
+/// given; arrays of tables' entries as "name[i]".
+void map_sources(const toml::table& table, const std::string& prefix, SourceMap& map) {
+  const auto add = [&map](const std::string& path, const toml::node& node) {
+    if (const auto& source = node.source().path; source && *source == detail::kOverrideSource)
+      map.add(path, 0);
+    else if (node.source().begin.line > 0)
+      map.add(path, static_cast<int>(node.source().begin.line));
+  };
+  for (const auto& [key, node] : table) {
+    const std::string path = prefix.empty() ? std::string(key.str()) : prefix + "." + std::string(key.str());
+    if (node.is_array_of_tables()) {
+      const toml::array& entries = *node.as_array();
+      for (std::size_t i = 0; i < entries.size(); ++i) {
+        if (i == 0) add(path, *entries.get(0));
+        add(fmt::format("{}[{}]", path, i), *entries.get(i));
+        map_sources(*entries.get(i)->as_table(), fmt::format("{}[{}]", path, i), map);
+      }
+      continue;
+    }
+    add(path, node);
+    if (node.is_table()) map_sources(*node.as_table(), path, map);
   }
 }
 
@@ -140,6 +198,7 @@ SolverSpec parse_solver(const Section& s) {
   solver.forcing_max = s.number("forcing_max");
   solver.modified_newton = s.boolean("modified_newton");
   solver.petsc_options = s.string("petsc_options");
+  solver.threads = s.integer("threads");
   if (solver.method == "direct" && solver.preconditioner != "auto")
     s.fail("preconditioner", fmt::format("'{}' is for method = \"krylov\"; this scenario has method = \"direct\"",
                                          solver.preconditioner),
@@ -179,6 +238,8 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
               << toml::toml_formatter{root} << "\n";
     scenario.text = effective.str();
   }
+  scenario.sources = SourceMap(ctx.file);
+  map_sources(root, "", scenario.sources);
   scenario.title = top.string("title");
   scenario.dimension = ctx.dimension = top.integer("dimension");
   scenario.time = parse_time(top.table("time"));

@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "io/source_map.hpp"
+
 namespace conserve::io {
 
 /// Which algorithmic stress the time step uses.
@@ -129,6 +131,7 @@ struct SolverSpec {
   double forcing_max = 0.1;                ///< Eisenstat–Walker's largest relative linear tolerance
   bool modified_newton = true;             ///< keep the tangent while convergence is fast
   std::string petsc_options;
+  int threads = 0;  ///< assembly threads; 0: automatic (assembly::ThreadGovernor)
 };
 
 struct OutputSpec {
@@ -143,6 +146,7 @@ struct OutputSpec {
 struct Scenario {
   std::filesystem::path file;  ///< where it was read from (for messages)
   std::string text;            ///< the file's bytes as parsed (copied to the output as scenario.toml)
+  SourceMap sources;           ///< where each key was given: errors found later name its line
   std::string title;
   int dimension = 3;  ///< 2 (plane strain) or 3
   TimeSpec time;

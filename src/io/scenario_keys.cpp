@@ -158,6 +158,13 @@ SectionSpec solver_section() {
                .type = KeyType::string,
                .default_value = "",
                .doc = "krylov: extra PETSc options, e.g. \"-ksp_monitor\" (process-wide)"},
+              {.name = "threads",
+               .type = KeyType::integer,
+               .default_value = "0",
+               .min = at_least(0),
+               .doc = "assembly threads; 0: automatic, as many as the cores other processes leave free, "
+                      "re-measured every second (or OMP_NUM_THREADS if set); results are the same bits for any "
+                      "count"},
           }};
 }
 

@@ -27,7 +27,7 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// given-up push-outs (contact::Constraint::hold) and their count in the
 /// run's totals. 10: the constraints' force at the start of their last
 /// step and the lengths of the last two steps (located releases).
-constexpr std::uint32_t kVersion = 10;
+constexpr std::uint32_t kVersion = 11;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -153,8 +153,8 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(t.push_work);
   w.value(static_cast<std::int64_t>(t.pushes_given_up));
   w.value(t.max_activation_gap);
-  for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap, t.max_penetration,
-                   t.min_det_F})
+  for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap,
+                   t.slave_penetration, t.master_penetration, t.min_det_F})
     w.value(v);
 }
 
@@ -179,7 +179,7 @@ RunTotals read_totals(Reader& r) {
   t.pushes_given_up = r.value<std::int64_t>();
   t.max_activation_gap = r.value<double>();
   for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
-                    &t.max_penetration, &t.min_det_F})
+                    &t.slave_penetration, &t.master_penetration, &t.min_det_F})
     *v = r.value<double>();
   return t;
 }
@@ -233,7 +233,8 @@ void RunTotals::add(const contact::StepContactStats& c) {
   push_work += c.push_work;
   pushes_given_up += c.pushes_given_up;
   max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
-  max_penetration = std::max(max_penetration, c.max_penetration);
+  slave_penetration = std::max(slave_penetration, c.slave_penetration);
+  master_penetration = std::max(master_penetration, c.master_penetration);
   if (!std::isnan(c.min_active_gap)) {
     min_active_gap = std::isnan(min_active_gap) ? c.min_active_gap : std::min(min_active_gap, c.min_active_gap);
     max_active_gap = std::isnan(max_active_gap) ? c.max_active_gap : std::max(max_active_gap, c.max_active_gap);

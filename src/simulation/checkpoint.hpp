@@ -40,10 +40,12 @@ struct RunTotals {
   std::int64_t pushes_given_up = 0;  ///< push-outs given up, the slaves held (contact::Constraint::hold)
   double max_activation_gap = 0.0;
   /// Extremes over the steps: gaps of the active slaves (NaN while none
-  /// was ever active) and the deepest penetration [m]; smallest det F.
+  /// was ever active) and the deepest penetrations, slaves behind master
+  /// facets and master nodes behind slave facets [m]; smallest det F.
   double min_active_gap = std::numeric_limits<double>::quiet_NaN();
   double max_active_gap = std::numeric_limits<double>::quiet_NaN();
-  double max_penetration = 0.0;
+  double slave_penetration = 0.0;
+  double master_penetration = 0.0;
   double min_det_F = std::numeric_limits<double>::infinity();
 
   /// Adds one step's contact figures.

@@ -32,12 +32,15 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
   for (std::size_t i = 0; i < scenario.contacts.size(); ++i) {
     const io::ContactSpec& spec = scenario.contacts[i];
     contact::ContactPair<D> pair;
-    try {
-      pair.slave = contact::make_surface<D>(model, body_index(model, spec.slave_body), spec.slave_group);
-      pair.master = contact::make_surface<D>(model, body_index(model, spec.master_body), spec.master_group);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: contact[{}]: {}", scenario.file.string(), i, e.what()));
-    }
+    const auto surface = [&](const char* key, const std::string& body, const std::string& group) {
+      try {
+        return contact::make_surface<D>(model, body_index(model, body), group);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", scenario.sources.locate(fmt::format("contact[{}].{}", i, key)), e.what()));
+      }
+    };
+    pair.slave = surface("slave", spec.slave_body, spec.slave_group);
+    pair.master = surface("master", spec.master_body, spec.master_group);
     pair.kind = spec.kind == io::ContactKind::stick ? contact::Kind::stick : contact::Kind::frictionless;
     pair.search.depth_factor = spec.depth_factor;
     const double h = longest_edge(pair.master, model);

@@ -13,6 +13,8 @@
 #include "io/history_writer.hpp"
 #include "simulation/checkpoint.hpp"
 #include "simulation/output.hpp"
+#include "simulation/output_folder.hpp"
+#include "simulation/plausibility.hpp"
 #include "simulation/progress.hpp"
 #include "simulation/contact_setup.hpp"
 #include "simulation/drift.hpp"
@@ -40,6 +42,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const auto started = std::chrono::system_clock::now();
   Stepper<D> stepper(sc);
   const Problem<D>& problem = stepper.problem();
+  if (options.warn)
+    for (const std::string& w : plausibility_warnings<D>(sc, problem.model, stepper.contacts().pairs())) options.warn(w);
   const assembly::Assembler<D>& assembler = stepper.assembler();
   contact::ActiveSet<D>& contacts = stepper.contacts();
   time::Integrator<D>& integrator = stepper.integrator();
@@ -62,6 +66,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     io::resume_history(dir / "steps.csv", state.step);
   }
   const RunOrigin origin = run_origin(sc, started);  // reads the mesh files: before anything is written
+  summary.earlier_files_removed =
+      clear_earlier_run(dir, options.restart ? std::optional<std::int64_t>(state.step) : std::nullopt);
   OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contacts.empty() ? nullptr : &contacts,
                          sc.output.contact_state, options.restart ? std::optional<double>(state.time) : std::nullopt);
   io::write_atomically(dir / "scenario.toml", sc.text);
@@ -160,7 +166,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.pushes_given_up = totals.pushes_given_up;
   summary.min_active_gap = totals.min_active_gap;
   summary.max_active_gap = totals.max_active_gap;
-  summary.max_penetration = totals.max_penetration;
+  summary.slave_penetration = totals.slave_penetration;
+  summary.master_penetration = totals.master_penetration;
   summary.min_det_F = totals.min_det_F;
   summary.energy_reference = totals.energy_reference;
   summary.momentum_reference = totals.momentum_reference;
@@ -176,7 +183,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
 template <int D>
 CheckSummary check_dim(const io::Scenario& sc) {
   const Problem<D> p = setup<D>(sc);
-  make_contact_pairs<D>(sc, p.model);  // resolves the contact surfaces
+  const auto pairs = make_contact_pairs<D>(sc, p.model);  // resolves the contact surfaces
   CheckSummary s{D,
                  static_cast<int>(p.model.bodies.size()),
                  p.model.num_nodes(),
@@ -187,6 +194,7 @@ CheckSummary check_dim(const io::Scenario& sc) {
                  0.0};
   for (int c = 0; c < p.model.num_cells(); ++c)
     s.total_mass += p.model.bodies[p.model.cell_body[c]].density * p.model.geometry[c].volume;
+  s.warnings = plausibility_warnings<D>(sc, p.model, pairs);
   return s;
 }
 

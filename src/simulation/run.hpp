@@ -3,7 +3,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "core/types.hpp"
 #include "io/scenario.hpp"
@@ -19,6 +22,9 @@ struct RunOptions {
   /// step size and active set are restored, history.csv and steps.csv keep
   /// their rows up to the checkpoint's step and continue after it.
   std::optional<std::filesystem::path> restart;
+  /// Called with each plausibility warning (simulation/plausibility.hpp)
+  /// once the model is built, before anything is written; none if empty.
+  std::function<void(const std::string&)> warn;
 };
 
 /// Runs the scenario, writing history.csv, steps.csv (step, time, dt,
@@ -37,6 +43,7 @@ struct CheckSummary {
   int bodies = 0, nodes = 0, cells = 0, dofs = 0, prescribed_dofs = 0;
   std::int64_t steps = 0;   ///< end / step, rounded up
   double total_mass = 0.0;  ///< [kg]
+  std::vector<std::string> warnings;  ///< plausibility warnings (simulation/plausibility.hpp)
 };
 
 /// Validates the scenario fully (meshes made or read, groups resolved).

@@ -21,18 +21,38 @@
 namespace conserve::simulation {
 namespace {
 
+/// "FILE:LINE: PATH (body 'NAME'): WHAT": an error found while building
+/// body `i`, at its scenario key `key` ("mesh.file", "mesh.group").
+InputError body_error(const io::Scenario& scenario, std::size_t i, std::string_view key, std::string_view what) {
+  return InputError(fmt::format("{} (body '{}'): {}", scenario.sources.locate(fmt::format("body[{}].{}", i, key)),
+                                scenario.bodies[i].name, what));
+}
+
+/// f(), with an InputError it throws located at key `key` of body `i`.
+template <class F>
+auto at_key(const io::Scenario& scenario, std::size_t i, std::string_view key, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw body_error(scenario, i, key, e.what());
+  }
+}
+
 /// A body's mesh, translated. A generated mesh's nodes are renumbered in
 /// reverse Cuthill–McKee order and its cells follow them (a generator's
 /// numbering is its own: Gmsh's scatters a cell's nodes across the whole
 /// body, and every cell loop and ILU(0) pays for it). A file's numbering
 /// is kept: outputs and messages then name its nodes and cells as the file
 /// does.
-mesh::Mesh body_mesh(const io::BodySpec& spec, int dim) {
+mesh::Mesh body_mesh(const io::Scenario& scenario, std::size_t i, int dim) {
+  const io::BodySpec& spec = scenario.bodies[i];
   mesh::Mesh m;
   if (spec.mesh.generator.empty()) {
-    m = mesh::extract(mesh::read_msh(spec.mesh.file, dim), spec.mesh.group);
+    const mesh::Mesh all = at_key(scenario, i, "mesh.file", [&] { return mesh::read_msh(spec.mesh.file, dim); });
+    m = at_key(scenario, i, "mesh.group", [&] { return mesh::extract(all, spec.mesh.group); });
   } else {
-    m = mesh::generate_mesh(spec.mesh.generator, spec.mesh.parameters);
+    m = at_key(scenario, i, "mesh.generator",
+               [&] { return mesh::generate_mesh(spec.mesh.generator, spec.mesh.parameters); });
     if (m.num_cells() > 0) {
       std::vector<int> offsets, neighbours;
       mesh::node_graph(m, offsets, neighbours);
@@ -54,17 +74,15 @@ io::MaterialSpec rigid_placeholder() { return {.young = 1.0, .poisson = 0.0, .de
 template <int D>
 void add_body(const io::Scenario& scenario, std::size_t i, model::Model<D>& model) {
   const io::BodySpec& spec = scenario.bodies[i];
-  try {
-    const io::MaterialSpec material =
-        spec.rigid && !(spec.material.density > 0.0) ? rigid_placeholder() : spec.material;
-    const auto lame = material::Lame::from_young_poisson(material.young, material.poisson);
-    const mesh::Mesh mesh = body_mesh(spec, D);
-    if (mesh.num_cells() == 0 && !spec.rigid)
-      throw InputError("the mesh has no cells; only a rigid body may be a bare surface (set rigid = true)");
-    model::add_body<D>(model, mesh, spec.name, lame, material.density, spec.thickness);
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: body[{}] '{}': {}", scenario.file.string(), i, spec.name, e.what()));
-  }
+  const io::MaterialSpec material = spec.rigid && !(spec.material.density > 0.0) ? rigid_placeholder() : spec.material;
+  const auto lame = material::Lame::from_young_poisson(material.young, material.poisson);
+  const mesh::Mesh mesh = body_mesh(scenario, i, D);
+  const char* mesh_key = spec.mesh.generator.empty() ? "mesh.file" : "mesh.generator";
+  if (mesh.num_cells() == 0 && !spec.rigid)
+    throw body_error(scenario, i, mesh_key,
+                     "the mesh has no cells; only a rigid body may be a bare surface (set rigid = true)");
+  at_key(scenario, i, mesh_key,
+         [&] { model::add_body<D>(model, mesh, spec.name, lame, material.density, spec.thickness); });
 }
 
 /// Every dof of a rigid body: u = velocity · t.
@@ -81,29 +99,32 @@ void prescribe_rigid(const io::BodySpec& spec, const model::Body& body, model::P
 template <int D>
 void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
   std::set<int> seen;
+  const auto where = [&](std::size_t i, std::string_view key) {
+    return scenario.sources.locate(fmt::format("boundary[{}].{}", i, key));
+  };
   for (std::size_t i = 0; i < scenario.boundaries.size(); ++i) {
     const io::BoundarySpec& bc = scenario.boundaries[i];
     const auto body =
         std::find_if(model.bodies.begin(), model.bodies.end(), [&](const model::Body& b) { return b.name == bc.body; });
     if (body == model.bodies.end())
-      throw InputError(fmt::format("{}: boundary[{}]: no body named '{}'", scenario.file.string(), i, bc.body));
+      throw InputError(fmt::format("{}: no body named '{}'", where(i, "body"), bc.body));
     if (scenario.bodies[static_cast<std::size_t>(body - model.bodies.begin())].rigid)
       throw InputError(
-          fmt::format("{}: boundary[{}]: body '{}' is rigid: all its degrees of freedom are already "
-                      "prescribed (remove this [[boundary]])",
-                      scenario.file.string(), i, bc.body));
+          fmt::format("{}: body '{}' is rigid: all its degrees of freedom are already prescribed (remove this "
+                      "[[boundary]])",
+                      where(i, "body"), bc.body));
     std::vector<int> nodes;
     try {
       nodes = model::group_nodes(*body, bc.group);
     } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: boundary[{}].group: {}", scenario.file.string(), i, e.what()));
+      throw InputError(fmt::format("{}: {}", where(i, "group"), e.what()));
     }
     for (int n : nodes)
       for (int k : bc.components) {
         const int d = model::dof<D>(n, k);
         if (!seen.insert(d).second)
-          throw InputError(fmt::format("{}: boundary[{}]: node {} component {} of body '{}' is already prescribed",
-                                       scenario.file.string(), i, n - body->first_node, "xyz"[k], bc.body));
+          throw InputError(fmt::format("{}: node {} component {} of body '{}' is already prescribed",
+                                       where(i, "components"), n - body->first_node, "xyz"[k], bc.body));
         model.prescribed.dofs.push_back(d);
         model.prescribed.value.push_back(bc.value[k]);
         model.prescribed.rate.push_back(bc.rate[k]);
@@ -203,7 +224,7 @@ void check_overlaps(const io::Scenario& scenario, const model::Model<D>& model, 
         throw InputError(
             fmt::format("{}: bodies '{}' and '{}' overlap at t = 0: node {} of '{}' at ({}) is inside cell {} of '{}' "
                         "(move them apart, e.g. with translate)",
-                        scenario.file.string(), guest.name, host.name, n - guest.first_node, guest.name,
+                        scenario.sources.locate(fmt::format("body[{}].translate", a)), guest.name, host.name, n - guest.first_node, guest.name,
                         fmt::join(x.col(n).data(), x.col(n).data() + D, ", "), c - host.first_cell, host.name));
       }
     }
@@ -253,9 +274,9 @@ void check_scales(const io::Scenario& scenario, const model::Model<D>& model) {
     for (const Scale& sc : scales)
       if (!(std::abs(sc.value) <= kLargestScale))
         throw InputError(fmt::format(
-            "{}: body[{}] '{}': {}: its {} is {:.3g} {}, beyond what the solver can hold in double precision "
+            "{} (body '{}'): {}: its {} is {:.3g} {}, beyond what the solver can hold in double precision "
             "(at most {:g} {}, so that norms of forces stay finite)",
-            scenario.file.string(), b, spec.name, sc.keys, sc.what, sc.value, sc.unit, kLargestScale, sc.unit));
+            scenario.sources.locate(fmt::format("body[{}].material", b)), spec.name, sc.keys, sc.what, sc.value, sc.unit, kLargestScale, sc.unit));
   }
 }
 

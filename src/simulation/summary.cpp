@@ -71,7 +71,9 @@ Json figures(const RunSummary& s, int unknowns) {
               {"held", s.held},
               {"min_active_gap", s.min_active_gap},
               {"max_active_gap", s.max_active_gap},
-              {"max_penetration", s.max_penetration},
+              {"max_penetration", s.max_penetration()},
+              {"slave_penetration", s.slave_penetration},
+              {"master_penetration", s.master_penetration},
               {"min_det_F", s.min_det_F}};
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 /// What a finished run measured and where it came from, and summary.json,
 /// the file that records both (read by bench/ and scripts).
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -40,9 +41,13 @@ struct RunSummary {
   std::int64_t pushes_given_up = 0;  ///< push-outs given up, the slaves held (contact::Constraint::hold)
   double min_active_gap = 0.0;      ///< smallest gap of an active slave at a step's end [m] (NaN: none)
   double max_active_gap = 0.0;      ///< largest gap of an active slave at a step's end [m] (NaN: none)
-  double max_penetration = 0.0;     ///< deepest slave behind its master at a step's end [m]
+  double slave_penetration = 0.0;   ///< deepest slave node behind a master facet at a step's end [m]
+  double master_penetration = 0.0;  ///< deepest master node behind a slave facet at a step's end [m]
+  /// The deeper of the two [m].
+  [[nodiscard]] double max_penetration() const { return std::max(slave_penetration, master_penetration); }
   double min_det_F = 0.0;           ///< smallest det F of a cell at a step's end
   std::filesystem::path output_directory;
+  int earlier_files_removed = 0;  ///< files of an earlier run removed from it (simulation/output_folder.hpp)
   solver::Timings timings;      ///< where the wall time went
   std::string linear_solver;    ///< the back end's name, e.g. "GMRES + ILU(0)"
   double output_seconds = 0.0;  ///< writing history and VTU files

@@ -156,6 +156,10 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
           state.step + 1, t_np1, stats_.passes, stats_.activations, stats_.releases));
   }
   check_orientation(u_np1, state.step + 1, t_np1);
+  if (contacts_) {
+    solver::ScopedTimer timer(timings_.contact_search);
+    stats_.master_penetration = contacts_->master_penetration(u_np1, state.u).depth;
+  }
   if (v_np1.size() == 0) v_np1 = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
   stats_.push_work = push_work;
   state.v = std::move(v_np1);

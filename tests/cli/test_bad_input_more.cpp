@@ -112,7 +112,8 @@ size = 0.5
 
 TEST(BadInputMore, OverlappingBodies) {
   const CliResult r = check("overlap", two_boxes(0.7));
-  expect_one_line_error(r, "scenario.toml: bodies '");
+  expect_one_line_error(r, "scenario.toml:");
+  EXPECT_THAT(r.err, HasSubstr(": body[1].translate: bodies '"));
   EXPECT_THAT(r.err, HasSubstr("overlap at t = 0"));
   EXPECT_THAT(r.err, HasSubstr("'left'"));
   EXPECT_THAT(r.err, HasSubstr("'right'"));

@@ -131,7 +131,7 @@ TEST(Rigid, CellLessDeformableBodyIsRejected) {
                              "[body.material]\nyoung = 1.0e5\npoisson = 0.3\ndensity = 1000.0\n"
                              "[body.mesh]\ngenerator = \"square\"");
   expect_check_fails("rigid_bare_deformable", text,
-                     "body[1] 'floor': the mesh has no cells; only a rigid body may be a bare surface");
+                     "body[1].mesh.generator (body 'floor'): the mesh has no cells; only a rigid body may be a bare surface");
 }
 
 TEST(Rigid, BoundaryOnRigidBodyIsRejected) {

@@ -74,7 +74,8 @@ TEST(Trust, ScalesDoublePrecisionCannotHoldAreRefusedAtCheck) {
       const CliResult r = run_cli(command, dir);
       EXPECT_EQ(r.exit_code, 1) << command << " with young " << young << ", density " << density << ": " << r.out;
       expect_one_line(r);
-      EXPECT_THAT(r.err, HasSubstr("conserve: error: s.toml: body[0] 'box': "));
+      EXPECT_THAT(r.err, HasSubstr("conserve: error: s.toml:"));
+      EXPECT_THAT(r.err, HasSubstr(": body[0].material (body 'box'): "));
       EXPECT_THAT(r.err, HasSubstr(key));
       EXPECT_FALSE(fs::exists(dir / "out"));
     }
@@ -93,7 +94,8 @@ TEST(Trust, HistoryShowsGapsPenetrationAndDetF) {
   EXPECT_THAT(r.out, HasSubstr("smallest det F"));
   const io::History h = io::read_history(dir / "out/history.csv");
   const auto active = h.column("active_contacts"), min_gap = h.column("min_active_gap"),
-             max_gap = h.column("max_active_gap"), penetration = h.column("max_penetration"),
+             max_gap = h.column("max_active_gap"), penetration = h.column("slave_penetration"),
+             master = h.column("master_penetration"), deepest = h.column("max_penetration"),
              det = h.column("min_det_F");
   int contact_rows = 0;
   for (std::size_t i = 0; i < active.size(); ++i) {
@@ -106,12 +108,16 @@ TEST(Trust, HistoryShowsGapsPenetrationAndDetF) {
     }
     EXPECT_GE(penetration[i], 0.0);
     EXPECT_LE(penetration[i], 1e-12 * 5.0);  // the model is about 5 m across
+    EXPECT_GE(master[i], 0.0);
+    EXPECT_EQ(deepest[i], std::max(penetration[i], master[i])) << "row " << i;
     EXPECT_GT(det[i], 0.0);
     EXPECT_LT(det[i], 1.5);
   }
   EXPECT_GT(contact_rows, 10);
   const auto j = nlohmann::json::parse(slurp(dir / "out/summary.json"));
-  EXPECT_LE(j.at("max_penetration").get<double>(), 1e-12 * 5.0);
+  EXPECT_LE(j.at("slave_penetration").get<double>(), 1e-12 * 5.0);
+  EXPECT_EQ(j.at("max_penetration").get<double>(),
+            std::max(j.at("slave_penetration").get<double>(), j.at("master_penetration").get<double>()));
   EXPECT_GE(j.at("min_active_gap").get<double>(), -1e-12);
   EXPECT_GT(j.at("min_det_F").get<double>(), 0.0);
   EXPECT_TRUE(j.at("held").is_number_integer());

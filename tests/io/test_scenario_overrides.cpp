@@ -61,6 +61,54 @@ TEST(ScenarioOverrides, TextIsTheEffectiveScenario) {
   EXPECT_EQ(again.bodies[0].material.density, s.bodies[0].material.density);
 }
 
+/// Two bodies and two contacts: [[...]] entries addressed by name or index.
+std::string two_bodies() {
+  return minimal(
+      "[[body]]\nname = \"b\"\ntranslate = [2, 0, 0]\n[body.material]\nyoung = 2e6\npoisson = 0.3\n"
+      "density = 1000\n[body.mesh]\nfile = \"meshes/cube.msh\"\n"
+      "[[contact]]\nslave = \"a\"\nmaster = \"b\"\nkind = \"frictionless\"\n[[contact]]\nslave = \"b:top\"\nmaster = \"a:top\"\nkind = \"frictionless\"\n");
+}
+
+TEST(ScenarioOverrides, EntriesOfArraysOfTablesByNameOrIndex) {
+  const std::string text = two_bodies();
+  const Scenario s = parse_scenario(text, case_file(),
+                                    {"body.b.material.young=1e7", "body.0.material.density=2000",
+                                     "body.a.velocity=[1, 0, 0]", "contact.1.kind=stick", "body.b.mesh.group=cube"});
+  EXPECT_EQ(s.bodies[0].material.young, 1e6);  // not the named one
+  EXPECT_EQ(s.bodies[1].material.young, 1e7);
+  EXPECT_EQ(s.bodies[0].material.density, 2000.0);
+  EXPECT_EQ(s.bodies[0].velocity, Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(s.bodies[1].mesh.group, "cube");
+  EXPECT_EQ(s.contacts[0].kind, ContactKind::frictionless);
+  EXPECT_EQ(s.contacts[1].kind, ContactKind::stick);
+  // The effective text reads back as the same scenario.
+  const Scenario again = parse_scenario(s.text, case_file());
+  EXPECT_EQ(again.bodies[1].material.young, 1e7);
+  EXPECT_EQ(again.contacts[1].kind, ContactKind::stick);
+}
+
+TEST(ScenarioOverrides, EntriesAreValidatedAsInTheFile) {
+  const std::string text = two_bodies();
+  struct Case {
+    std::string item, starts, contains;
+  };
+  const std::vector<Case> cases = {
+      {"body.c.material.young=1", "--set 'body.c.material.young=1': ", "no entry named 'c' (expected an index 0 to 1 or a name: 'a', 'b')"},
+      {"contact.2.kind=stick", "--set 'contact.2.kind=stick': ", "no entry number 2"},
+      {"body.b.material.young=-1", "--set body[1].material.young: ", "out of range"},
+      {"body.b.material.yung=1", "--set body[1].material.yung: ", "unknown key"},
+      {"contact.0.kind=glue", "--set contact[0].kind: ", "frictionless"},
+      {"body.b=1", "--set 'body.b=1': ", "array of tables [[body]]"},
+      {"body=1", "--set 'body=1': ", "array of tables [[body]]"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = error_of(text, {c.item});
+    EXPECT_EQ(message.rfind(c.starts, 0), 0u) << c.item << ": " << message;
+    EXPECT_NE(message.find(c.contains), std::string::npos) << c.item << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 TEST(ScenarioOverrides, BadOverridesFailWithOneLineNamingThem) {
   const std::string text = minimal();
   struct Case {
@@ -71,7 +119,7 @@ TEST(ScenarioOverrides, BadOverridesFailWithOneLineNamingThem) {
       {"time..end=1", "--set 'time..end=1': ", "not a key path"},
       {"=1", "--set '=1': ", "not a key path"},
       {"time.end=", "--set time.end: ", "got a string"},
-      {"body.density=3", "--set 'body.density=3': ", "[[...]]"},
+      {"body.density=3", "--set 'body.density=3': ", "[[body]]"},
       {"time.step.x=1", "--set 'time.step.x=1': ", "time.step is a float, not a table"},
       {"title.x=1", "--set title: ", "got a table"},  // the table it creates
       {"active_set.scheme=persisten", "--set active_set.scheme: ", "paper, persistent"},

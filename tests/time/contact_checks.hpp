@@ -139,8 +139,8 @@ double reduced_product_error(ContactRun<D>& run) {
 /// The deepest slave behind its master at the end of the step, active or
 /// not, by the activation search's rules [m].
 template <int D>
-double max_penetration(ContactRun<D>& run) {
-  return run.contacts->max_penetration(run.state.u).depth;
+double slave_penetration(ContactRun<D>& run) {
+  return run.contacts->slave_penetration(run.state.u).depth;
 }
 
 }  // namespace conserve::test

@@ -90,7 +90,7 @@ struct Record {
   int stats_mismatches = 0;  ///< steps whose reported end geometry differs from a search of their end
 };
 
-/// Whether the end geometry a step reports (max_penetration and the active
+/// Whether the end geometry a step reports (slave_penetration and the active
 /// gaps, from its last pass's activation search, which also finds slaves
 /// that entered through a border facet) is what separate searches of the
 /// same end, with the same start u_n, find, bit for bit.
@@ -99,7 +99,7 @@ bool reports_its_end(ContactRun<D>& run, const Eigen::VectorXd& u_n) {
   const contact::StepContactStats& stats = run.integrator->contact_stats();
   const contact::ActiveGaps gaps = run.contacts->active_gaps(run.state.u, &u_n);
   const auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
-  return stats.max_penetration == run.contacts->max_penetration(run.state.u, &u_n).depth &&
+  return stats.slave_penetration == run.contacts->slave_penetration(run.state.u, &u_n).depth &&
          same(stats.min_active_gap, gaps.min) && same(stats.max_active_gap, gaps.max);
 }
 
@@ -140,7 +140,7 @@ Record run_and_record(ContactRun<D>& run) {
     if (run.contacts->constraints().empty()) continue;
     ++r.contact_steps;
     r.constraint = std::max(r.constraint, held_gap_violation(run, u_n));
-    r.penetration = std::max(r.penetration, test::max_penetration(run));
+    r.penetration = std::max(r.penetration, test::slave_penetration(run));
     for (const auto& c : run.contacts->constraints()) {
       auto [it, fresh] = facet_of.emplace(c.slave, c.facet);
       if (!fresh && it->second != c.facet) ++r.facet_changes, it->second = c.facet;
@@ -282,7 +282,7 @@ HollowCylinders run_hollow_cylinders(const std::string& scenario, int steps) {
     EXPECT_NO_THROW(run.step()) << "step " << n + 1;
     if (::testing::Test::HasFailure()) return r;
     if (!reports_its_end(run, u_n)) ++r.stats_mismatches;
-    r.deepest = std::max(r.deepest, run.integrator->contact_stats().max_penetration);
+    r.deepest = std::max(r.deepest, run.integrator->contact_stats().slave_penetration);
     const Diagnostics d = run.diagnostics();
     r.energy = std::max(r.energy, std::abs(d.total - d0.total) / d0.total);
     r.linear_x = std::max(r.linear_x, std::abs(d.linear.x() - d0.linear.x()) / d0.linear.x());
@@ -424,7 +424,7 @@ TEST(FrictionlessContact, NodesOnTwoSlaveSurfacesHoldBothConstraints) {
     ASSERT_NO_THROW(run.step()) << "step " << n + 1;
     most = std::max(most, two_constraint_slaves(run.contacts->constraints()));
     e = std::max(e, std::abs(run.diagnostics().total - d0.total) / d0.total);
-    behind = std::max(behind, run.last.contact.max_penetration);
+    behind = std::max(behind, run.last.contact.slave_penetration);
   }
   std::printf("[ measured ] corner block, %d steps: at most %d slaves with two constraints, E drift %.2e, deepest "
               "slave behind its master %.2e m\n",
@@ -451,7 +451,7 @@ TEST(FrictionlessContact, ACornerOfThreeMastersHoldsTwoOfTheirConstraints) {
     std::map<int, int> count;
     for (const auto& c : run.contacts->constraints()) per_node = std::max(per_node, ++count[c.slave]);
     e = std::max(e, std::abs(run.diagnostics().total - d0.total) / d0.total);
-    behind = std::max(behind, run.last.contact.max_penetration);
+    behind = std::max(behind, run.last.contact.slave_penetration);
   }
   std::printf(
       "[ measured ] three-wall corner, 50 steps: at most %d slaves with two constraints, at most %d "

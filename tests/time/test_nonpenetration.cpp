@@ -50,7 +50,7 @@ Sweep run_sweep(const std::string& toml) {
     de = std::max(de, std::abs(d.total - d0.total));
     dl = std::max(dl, (d.linear - d0.linear).norm());
     dj = std::max(dj, (d.angular - d0.angular).norm());
-    s.penetration = std::max(s.penetration, run.contacts->max_penetration(run.state.u).depth / size);
+    s.penetration = std::max(s.penetration, run.contacts->slave_penetration(run.state.u).depth / size);
     if (n == 0) continue;
     s.activations += run.integrator->contact_stats().activations;
     s.releases += run.integrator->contact_stats().releases;

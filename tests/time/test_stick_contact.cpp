@@ -56,7 +56,7 @@ Record run_and_record(ContactRun<D>& run) {
     r.releases += s.releases;
     r.max_passes = std::max(r.max_passes, s.passes);
     if (s.releases > 0 && r.first_release_step < 0) r.first_release_step = run.state.step;
-    r.penetration = std::max(r.penetration, test::max_penetration(run));
+    r.penetration = std::max(r.penetration, test::slave_penetration(run));
   }
   r.final_active = run.contacts->constraints().size();
   return r;
