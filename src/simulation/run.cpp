@@ -173,6 +173,9 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.momentum_reference = totals.momentum_reference;
   summary.angular_reference = totals.momentum_reference * problem.model.size();
   summary.cutbacks = control.cutbacks - first_cutbacks;
+  summary.thread_policy = stepper.threads().policy();
+  summary.fewest_threads = stepper.threads().fewest();
+  summary.most_threads = stepper.threads().most();
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();
   summary.linear_solver = integrator.linear_solver().name();

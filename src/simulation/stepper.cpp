@@ -43,7 +43,8 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
                                                          newton_settings(scenario.newton, scenario.solver),
                                                          contacts_.get(), scenario.active_set.max_passes,
                                                          linear_settings(scenario.solver))),
-      control_{.dt = scenario.time.step} {
+      control_{.dt = scenario.time.step},
+      threads_(scenario.solver.threads, problem_.model.num_cells()) {
   integrator_->set_persistent_contact(scenario.active_set.scheme == io::ContactScheme::persistent);
   integrator_->set_predictor(scenario.newton.predictor == io::PredictorKind::rigid ? time::Predictor::rigid
                                                                                    : time::Predictor::velocity);
@@ -52,6 +53,7 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
 
 template <int D>
 StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failures) {
+  threads_.update();
   const std::vector<contact::Constraint<D>> saved = contacts_->constraints();
   failures = 0;
   // After a step cut short at an impact the steps go on at the full Δt

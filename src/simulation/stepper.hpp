@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "assembly/threads.hpp"
 #include "contact/active_set.hpp"
 #include "core/error.hpp"
 #include "io/scenario.hpp"
@@ -55,6 +56,8 @@ class Stepper {
   [[nodiscard]] time::Integrator<D>& integrator() { return *integrator_; }
   /// Δt to try next and the cutback counters (saved in checkpoints).
   [[nodiscard]] StepControl& control() { return control_; }
+  /// The assembly's threads ([solver] threads), re-chosen before each step.
+  [[nodiscard]] const assembly::ThreadGovernor& threads() const { return threads_; }
 
   /// One converged step from `state`: retried from the same state (and the
   /// same active set) with Δt halved after each failure; Δt doubles back
@@ -77,6 +80,7 @@ class Stepper {
   std::unique_ptr<contact::ActiveSet<D>> contacts_;
   std::unique_ptr<time::Integrator<D>> integrator_;
   StepControl control_;
+  assembly::ThreadGovernor threads_;
   std::string last_failure_;
 };
 

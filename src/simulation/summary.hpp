@@ -52,6 +52,10 @@ struct RunSummary {
   std::string linear_solver;    ///< the back end's name, e.g. "GMRES + ILU(0)"
   double output_seconds = 0.0;  ///< writing history and VTU files
   std::int64_t cutbacks = 0;    ///< failed step attempts retried with Δt halved
+  /// The assembly's threads: why (assembly::ThreadGovernor::policy), and
+  /// the fewest and most used.
+  std::string thread_policy;
+  int fewest_threads = 1, most_threads = 1;
   double min_dt = 0.0;          ///< smallest step size used [s]
 };
 
