@@ -64,11 +64,12 @@ std::optional<OtherLoad::Reading> OtherLoad::read() {
 }
 
 std::optional<double> OtherLoad::sample(double min_seconds) {
-  if (!last_) return std::nullopt;
+  if (!last_ || std::chrono::duration<double>(std::chrono::steady_clock::now() - last_->wall).count() < min_seconds)
+    return std::nullopt;  // called every step: /proc/stat is read only once the window has passed
   const auto now = read();
   if (!now) return std::nullopt;
   const double wall = std::chrono::duration<double>(now->wall - last_->wall).count();
-  if (wall < min_seconds || !(wall > 0.0)) return std::nullopt;
+  if (!(wall > 0.0)) return std::nullopt;
   const double others = ((now->busy - last_->busy) - (now->own - last_->own)) / wall;
   last_ = now;
   return std::max(others, 0.0);
@@ -84,7 +85,7 @@ ThreadGovernor::ThreadGovernor(int requested, int cells) {
     use(requested);
   } else if (std::getenv("OMP_NUM_THREADS")) {
     policy_ = "OMP_NUM_THREADS";
-    use(threads());  // the OpenMP variable's count, as OpenMP read it
+    use(assembly::threads());  // the OpenMP variable's count, as OpenMP read it
   } else if (cells < kMinParallelCells || processors() == 1) {
     policy_ = cells < kMinParallelCells ? "small model" : "one processor";
     use(1);

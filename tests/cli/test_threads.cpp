@@ -3,6 +3,8 @@
 // and =2 writes the same history and steps.csv, byte for byte.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdlib>
 #include <string>
 
@@ -30,6 +32,9 @@ TEST(Threads, HistoryIsBitIdenticalForOneAndTwoThreads) {
   ASSERT_EQ(one.exit_code, 0) << one.err;
   ASSERT_EQ(two.exit_code, 0) << two.err;
   ASSERT_FALSE(slurp(dir / "one/history.csv").empty());
+  // Not vacuous: the second run did use two threads.
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "one/summary.json")).at("threads").at("most"), 1);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "two/summary.json")).at("threads").at("most"), 2);
   EXPECT_TRUE(slurp(dir / "one/history.csv") == slurp(dir / "two/history.csv")) << "history.csv differs";
   EXPECT_TRUE(slurp(dir / "one/steps.csv") == slurp(dir / "two/steps.csv")) << "steps.csv differs";
 }
