@@ -13,7 +13,7 @@
 #   --cases    cube: bench/cube/febio_cube.toml, 300 steps;
 #              ball: examples/ball/ball_on_plane.toml, 800 steps (its first impact)
 #   --no-build use build/release/conserve (or $CONSERVE) as it is
-# Writes bench/results/threads.md. About 8 minutes on the project's 2-core
+# Writes bench/results/threads.md. About 13 minutes on the project's 2-core
 # machine with the defaults.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -13,12 +13,10 @@ namespace {
 /// the facets at it, at positions x [m].
 template <int D>
 std::vector<double> longest_edges(const ContactSurface& surface, const Positions<D>& x) {
+  const std::vector<double> facet = facet_sizes<D>(surface, x);
   std::vector<double> size(surface.nodes.size(), 0.0);
   for (std::size_t i = 0; i < surface.nodes.size(); ++i)
-    for (int f : surface.node_facets[i])
-      for (int a = 0; a < D; ++a)
-        for (int b = a + 1; b < D; ++b)
-          size[i] = std::max(size[i], (x.col(surface.facets(a, f)) - x.col(surface.facets(b, f))).norm());
+    for (int f : surface.node_facets[i]) size[i] = std::max(size[i], facet[static_cast<std::size_t>(f)]);
   return size;
 }
 
@@ -33,7 +31,7 @@ ContactPair<D> reversed(const ContactPair<D>& pair, const Positions<D>& x) {
   r.master = pair.slave;
   r.kind = pair.kind;
   r.search = pair.search;
-  const std::vector<double> edges = longest_edges<D>(r.master, x);
+  const std::vector<double> edges = facet_sizes<D>(r.master, x);
   const double longest = edges.empty() ? 0.0 : *std::max_element(edges.begin(), edges.end());
   r.search.search_distance = r.search.depth_factor * longest;
   r.tree.build(r.master.facets, x);

@@ -169,6 +169,19 @@ ContactSurface make_surface(const model::Model<D>& model, int body, const std::s
   return surface;
 }
 
+template <int D>
+std::vector<double> facet_sizes(const ContactSurface& surface, const Eigen::Matrix<double, D, Eigen::Dynamic>& x) {
+  std::vector<double> size(static_cast<std::size_t>(surface.num_facets()), 0.0);
+  for (int f = 0; f < surface.num_facets(); ++f)
+    for (int a = 0; a < D; ++a)
+      for (int b = a + 1; b < D; ++b)
+        size[static_cast<std::size_t>(f)] =
+            std::max(size[static_cast<std::size_t>(f)], (x.col(surface.facets(a, f)) - x.col(surface.facets(b, f))).norm());
+  return size;
+}
+
+template std::vector<double> facet_sizes<2>(const ContactSurface&, const Eigen::Matrix<double, 2, Eigen::Dynamic>&);
+template std::vector<double> facet_sizes<3>(const ContactSurface&, const Eigen::Matrix<double, 3, Eigen::Dynamic>&);
 template ContactSurface make_surface<2>(const model::Model<2>&, int, const std::string&);
 template ContactSurface make_surface<3>(const model::Model<3>&, int, const std::string&);
 

@@ -36,6 +36,12 @@ struct ContactSurface {
 template <int D>
 ContactSurface make_surface(const model::Model<D>& model, int body, const std::string& group);
 
+/// The longest edge of each facet of `surface` at positions x (D × the
+/// model's nodes) [m]: the mesh size the search, the gap tolerances and
+/// the coarse-slave warning measure a surface by.
+template <int D>
+std::vector<double> facet_sizes(const ContactSurface& surface, const Eigen::Matrix<double, D, Eigen::Dynamic>& x);
+
 /// Adjacency from facets alone (used by make_surface; exposed for tests and
 /// for surfaces that are not part of a model): sets `nodes`, `node_facets`
 /// and `facet_neighbours` from `facets` (dim rows). A side shared by more

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "core/error.hpp"
 
 namespace conserve::simulation {
@@ -16,12 +18,8 @@ int body_index(const model::Model<D>& model, const std::string& name) {
 
 template <int D>
 double longest_edge(const contact::ContactSurface& s, const model::Model<D>& model) {
-  double h = 0.0;
-  for (int f = 0; f < s.num_facets(); ++f)
-    for (int a = 0; a < D; ++a)
-      for (int b = a + 1; b < D; ++b)
-        h = std::max(h, (model.X.col(s.facets(a, f)) - model.X.col(s.facets(b, f))).norm());
-  return h;
+  const std::vector<double> sizes = contact::facet_sizes<D>(s, model.X);
+  return sizes.empty() ? 0.0 : *std::max_element(sizes.begin(), sizes.end());
 }
 
 }  // namespace

@@ -121,14 +121,7 @@ void check_densities(const io::Scenario& scenario, const model::Model<D>& model,
 /// configuration [m].
 template <int D>
 double median_edge(const contact::ContactSurface& surface, const model::Model<D>& model) {
-  std::vector<double> edges;
-  for (int f = 0; f < surface.num_facets(); ++f) {
-    double longest = 0.0;
-    for (int a = 0; a < D; ++a)
-      for (int b = a + 1; b < D; ++b)
-        longest = std::max(longest, (model.X.col(surface.facets(a, f)) - model.X.col(surface.facets(b, f))).norm());
-    edges.push_back(longest);
-  }
+  std::vector<double> edges = contact::facet_sizes<D>(surface, model.X);
   if (edges.empty()) return 0.0;
   std::nth_element(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(edges.size() / 2), edges.end());
   return edges[edges.size() / 2];

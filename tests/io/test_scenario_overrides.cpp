@@ -24,6 +24,21 @@ std::string error_of(const std::string& text, const std::vector<std::string>& ov
   return "";
 }
 
+/// A bad override, the start of the one-line message it gives and a part of it.
+struct BadOverride {
+  std::string item, starts, contains;
+};
+
+/// Each override of `cases`, given alone with `text`, fails with its message.
+void expect_messages(const std::string& text, const std::vector<BadOverride>& cases) {
+  for (const BadOverride& c : cases) {
+    const std::string message = error_of(text, {c.item});
+    EXPECT_EQ(message.rfind(c.starts, 0), 0u) << c.item << ": " << message;
+    EXPECT_NE(message.find(c.contains), std::string::npos) << c.item << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 TEST(ScenarioOverrides, ReplaceAndAddKeys) {
   const std::string text = minimal();
   const Scenario plain = parse_scenario(text, case_file());
@@ -89,10 +104,7 @@ TEST(ScenarioOverrides, EntriesOfArraysOfTablesByNameOrIndex) {
 
 TEST(ScenarioOverrides, EntriesAreValidatedAsInTheFile) {
   const std::string text = two_bodies();
-  struct Case {
-    std::string item, starts, contains;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<BadOverride> cases = {
       {"body.c.material.young=1", "--set 'body.c.material.young=1': ", "no entry named 'c' (expected an index 0 to 1 or a name: 'a', 'b')"},
       {"contact.2.kind=stick", "--set 'contact.2.kind=stick': ", "no entry number 2"},
       {"body.b.material.young=-1", "--set body[1].material.young: ", "out of range"},
@@ -101,20 +113,12 @@ TEST(ScenarioOverrides, EntriesAreValidatedAsInTheFile) {
       {"body.b=1", "--set 'body.b=1': ", "array of tables [[body]]"},
       {"body=1", "--set 'body=1': ", "array of tables [[body]]"},
   };
-  for (const Case& c : cases) {
-    const std::string message = error_of(text, {c.item});
-    EXPECT_EQ(message.rfind(c.starts, 0), 0u) << c.item << ": " << message;
-    EXPECT_NE(message.find(c.contains), std::string::npos) << c.item << ": " << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_messages(text, cases);
 }
 
 TEST(ScenarioOverrides, BadOverridesFailWithOneLineNamingThem) {
   const std::string text = minimal();
-  struct Case {
-    std::string item, starts, contains;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<BadOverride> cases = {
       {"time", "--set 'time': ", "no '='"},
       {"time..end=1", "--set 'time..end=1': ", "not a key path"},
       {"=1", "--set '=1': ", "not a key path"},
@@ -128,12 +132,7 @@ TEST(ScenarioOverrides, BadOverridesFailWithOneLineNamingThem) {
       {"time.end=-1", "--set time.end: ", "end ≥ step"},
       {"title=\"\"\"two\nlines\"\"\"", "--set: ", "line break"},
   };
-  for (const Case& c : cases) {
-    const std::string message = error_of(text, {c.item});
-    EXPECT_EQ(message.rfind(c.starts, 0), 0u) << c.item << ": " << message;
-    EXPECT_NE(message.find(c.contains), std::string::npos) << c.item << ": " << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_messages(text, cases);
   // An error in the file itself still names the file and line.
   EXPECT_TRUE(test::fails_with(minimal("[active_set]\nscheme = \"x\"\n"), 13, "active_set.scheme", "paper"));
   EXPECT_EQ(error_of(minimal("[active_set]\nscheme = \"x\"\n"), {"time.end=0.2"})
