@@ -56,7 +56,8 @@ Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
   displacement_stiffness_.setZero(model.num_dofs());
   for (int c = 0; c < model.num_cells(); ++c) {
     const auto& geometry = model.geometry[c];
-    const double modulus = lame(c).lambda + 2.0 * lame(c).mu;
+    const material::Lame lame = law(c).small_strain();  // the law's stiffness at small strain
+    const double modulus = lame.lambda + 2.0 * lame.mu;
     for (int a = 0; a <= D; ++a) {
       const double grad = geometry.grad.col(a).norm();
       stiffness_scale_.segment<D>(model.cells(a, c) * D).array() += geometry.volume * modulus * grad;
@@ -126,7 +127,7 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
     if (magnitude) local_magnitude.setZero(size);
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
-      const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], lame(c),
+      const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], law(c),
                                                            start[static_cast<std::size_t>(c)],
                                                            cell_positions(c, u_np1), scheme);
       for (int a = 0; a <= D; ++a) {
@@ -175,7 +176,7 @@ void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
       const std::uint8_t owned = parts.visit_owned[v];
-      fem::internal_force_tangent<D>(model_.geometry[c], lame(c), start[static_cast<std::size_t>(c)],
+      fem::internal_force_tangent<D>(model_.geometry[c], law(c), start[static_cast<std::size_t>(c)],
                                      cell_positions(c, u_np1), scheme, fe, Ke);
       if (f)
         for (int a = 0; a <= D; ++a)
@@ -206,7 +207,7 @@ Orientation Assembler<D>::min_det_F(const Eigen::VectorXd& u) const {
 template <int D>
 double Assembler<D>::strain_energy(const Eigen::VectorXd& u) const {
   const std::vector<double> W = per_cell(model_.num_cells(), [&](int c) {
-    return fem::strain_energy<D>(model_.geometry[c], lame(c), cell_positions(c, u));
+    return fem::strain_energy<D>(model_.geometry[c], law(c), cell_positions(c, u));
   });
   double sum = 0.0;
   for (const double w : W) sum += w;  // in cell order, as a serial loop

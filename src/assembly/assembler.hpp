@@ -97,7 +97,7 @@ class Assembler {
   [[nodiscard]] fem::NodeMatrix<D> cell_positions(int cell, const Eigen::VectorXd& u) const;
 
  private:
-  [[nodiscard]] const material::Lame& lame(int cell) const { return model_.bodies[model_.cell_body[cell]].lame; }
+  [[nodiscard]] const material::Law& law(int cell) const { return *model_.bodies[model_.cell_body[cell]].law; }
   /// K += ∂f/∂u_{n+1} and, if given, f += the internal force.
   void add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme, Eigen::VectorXd* f,
                    SparseMatrix& K) const;

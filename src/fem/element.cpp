@@ -1,5 +1,7 @@
 #include "fem/element.hpp"
 
+#include "fem/discrete_gradient.hpp"
+
 namespace conserve::fem {
 namespace {
 
@@ -11,9 +13,10 @@ struct AlgorithmicState {
   Mat<D> S;      ///< algorithmic second Piola–Kirchhoff stress
 };
 
+/// SVK's state: the Simo–Tarnow stress, or the mid-point S(E(F_{n+½})).
 template <int D>
-AlgorithmicState<D> algorithmic_state(const SimplexGeometry<D>& g, const material::Lame& lame,
-                                      const CellStart<D>& start, const NodeMatrix<D>& x_np1, StressScheme scheme) {
+AlgorithmicState<D> svk_state(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+                              const NodeMatrix<D>& x_np1, StressScheme scheme) {
   const Mat<D> F_np1 = deformation_gradient<D>(x_np1, g);
   const Mat<D> F_mid = 0.5 * (start.F + F_np1);
   if (scheme == StressScheme::midpoint) {
@@ -21,6 +24,38 @@ AlgorithmicState<D> algorithmic_state(const SimplexGeometry<D>& g, const materia
   }
   const Mat<D> E_alg = 0.5 * (start.E + material::green_lagrange<D>(F_np1));
   return {F_mid, F_np1, material::svk_stress<D>(lame, E_alg)};
+}
+
+/// Any other law's state, with ∂S/∂C_G (C_G = GᵀG, the C the stress is
+/// varied through): the discrete gradient (conserving, G = F_{n+1}), or
+/// S(C(F_{n+½})) with ¼ℂ (midpoint, G = F_{n+½}, whose C varies by half).
+template <int D>
+struct LawState {
+  AlgorithmicState<D> state;
+  material::Mat9 dS;
+};
+
+template <int D>
+LawState<D> law_state(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
+                      const NodeMatrix<D>& x_np1, StressScheme scheme, bool with_derivative) {
+  const Mat<D> F_np1 = deformation_gradient<D>(x_np1, g);
+  const Mat<D> F_mid = 0.5 * (start.F + F_np1);
+  LawState<D> s;
+  s.state.F_mid = F_mid;
+  if (scheme == StressScheme::midpoint) {
+    const Mat3 C = material::embed_plane_strain<D>(Mat<D>(F_mid.transpose() * F_mid));
+    s.state.G = F_mid;
+    s.state.S = law.stress(C).template topLeftCorner<D, D>();
+    if (with_derivative) s.dS = 0.25 * law.tangent(C);
+    return s;
+  }
+  const AlgorithmicStress a =
+      discrete_gradient(law, material::embed_plane_strain<D>(Mat<D>(start.F.transpose() * start.F)),
+                        material::embed_plane_strain<D>(Mat<D>(F_np1.transpose() * F_np1)), with_derivative);
+  s.state.G = F_np1;
+  s.state.S = a.S.template topLeftCorner<D, D>();
+  if (with_derivative) s.dS = a.dS;
+  return s;
 }
 
 /// f_A = V F_{n+½} S ∇N_A; one expression for the force and the tangent,
@@ -39,15 +74,16 @@ CellStart<D> cell_start(const SimplexGeometry<D>& g, const NodeMatrix<D>& x_n) {
 }
 
 template <int D>
-NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
                              const NodeMatrix<D>& x_np1, StressScheme scheme) {
-  return force_of_state<D>(g, algorithmic_state<D>(g, lame, start, x_np1, scheme));
+  if (const material::Lame* lame = law.svk()) return force_of_state<D>(g, svk_state<D>(g, *lame, start, x_np1, scheme));
+  return force_of_state<D>(g, law_state<D>(g, law, start, x_np1, scheme, false).state);
 }
 
 template <int D>
-NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Law& law, const StepPositions<D>& x,
                              StressScheme scheme) {
-  return internal_force<D>(g, lame, cell_start<D>(g, x.x_n), x.x_np1, scheme);
+  return internal_force<D>(g, law, cell_start<D>(g, x.x_n), x.x_np1, scheme);
 }
 
 // Perturbing x_{n+1} at node B along e_k: δF_{n+1} = e_k a_Bᵀ (a = ∇N), and
@@ -60,17 +96,20 @@ NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& 
 // repeat a factor over A or over i (vectorisable, no D × D blocks), with
 // λ' = ½Vλ, μ' = ½Vμ folded in once per cell.
 template <int D>
-void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const StepPositions<D>& x,
                             StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
-  internal_force_tangent<D>(g, lame, cell_start<D>(g, x.x_n), x.x_np1, scheme, f, K);
+  internal_force_tangent<D>(g, law, cell_start<D>(g, x.x_n), x.x_np1, scheme, f, K);
 }
 
+namespace {
+
+/// SVK's closed form (above).
 template <int D>
-void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
-                            const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
+void svk_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+                       const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
   constexpr int n = D * (D + 1);
   using Column = Eigen::Array<double, n, 1>;
-  const AlgorithmicState<D> s = algorithmic_state<D>(g, lame, start, x_np1, scheme);
+  const AlgorithmicState<D> s = svk_state<D>(g, lame, start, x_np1, scheme);
   f = force_of_state<D>(g, s);
   const double h = 0.5 * g.volume;
   const NodeMatrix<D> Fa = s.F_mid * g.grad;
@@ -95,35 +134,78 @@ void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& l
     }
 }
 
+// Any law: perturbing node B along e_k, δF_{n+1} = e_k a_Bᵀ, δF_{n+½} =
+// ½δF_{n+1}, δC_G = G ᵀe_k a_Bᵀ + a_B e_kᵀG (ΔC's variation through G, see
+// law_state), δS = dS : δC_G, and
+//   δf_A = V [ ½ e_k (a_B·S a_A) + F_{n+½} δS a_A ].
 template <int D>
-double strain_energy(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x) {
-  const Mat<D> E = material::green_lagrange<D>(deformation_gradient<D>(x, g));
-  return g.volume * material::svk_energy_density<D>(lame, E);
+void law_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
+                       const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
+  const LawState<D> s = law_state<D>(g, law, start, x_np1, scheme, true);
+  f = force_of_state<D>(g, s.state);
+  const double V = g.volume;
+  const Eigen::Matrix<double, D + 1, D + 1> aSa = g.grad.transpose() * (s.state.S * g.grad);
+  for (int B = 0; B <= D; ++B)
+    for (int k = 0; k < D; ++k) {
+      Mat3 dC = Mat3::Zero();
+      const Vec<D> Gk = s.state.G.row(k).transpose();
+      dC.template topLeftCorner<D, D>() = Gk * g.grad.col(B).transpose() + g.grad.col(B) * Gk.transpose();
+      Mat3 dS;
+      Eigen::Map<Eigen::Matrix<double, 9, 1>>(dS.data()) = s.dS * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dC.data());
+      const NodeMatrix<D> df = V * (s.state.F_mid * dS.template topLeftCorner<D, D>() * g.grad);
+      for (int A = 0; A <= D; ++A)
+        for (int i = 0; i < D; ++i) K(A * D + i, B * D + k) = df(i, A) + (i == k ? 0.5 * V * aSa(A, B) : 0.0);
+    }
+}
+
+}  // namespace
+
+template <int D>
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
+                            const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
+  if (const material::Lame* lame = law.svk())
+    svk_force_tangent<D>(g, *lame, start, x_np1, scheme, f, K);
+  else
+    law_force_tangent<D>(g, law, start, x_np1, scheme, f, K);
 }
 
 template <int D>
-Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x) {
+double strain_energy(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x) {
   const Mat<D> F = deformation_gradient<D>(x, g);
-  const Mat<D> E = material::green_lagrange<D>(F);
+  if (const material::Lame* lame = law.svk())
+    return g.volume * material::svk_energy_density<D>(*lame, material::green_lagrange<D>(F));
+  return g.volume * law.energy(material::embed_plane_strain<D>(Mat<D>(F.transpose() * F)));
+}
+
+template <int D>
+Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x) {
+  const Mat<D> F = deformation_gradient<D>(x, g);
   const double J = F.determinant();
   Mat3 sigma = Mat3::Zero();
-  sigma.topLeftCorner<D, D>() = F * material::svk_stress<D>(lame, E) * F.transpose() / J;
-  if constexpr (D == 2) sigma(2, 2) = lame.lambda * E.trace() / J;
+  if (const material::Lame* lame = law.svk()) {
+    const Mat<D> E = material::green_lagrange<D>(F);
+    sigma.topLeftCorner<D, D>() = F * material::svk_stress<D>(*lame, E) * F.transpose() / J;
+    if constexpr (D == 2) sigma(2, 2) = lame->lambda * E.trace() / J;
+    return sigma;
+  }
+  const Mat3 S = law.stress(material::embed_plane_strain<D>(Mat<D>(F.transpose() * F)));
+  sigma.topLeftCorner<D, D>() = F * S.topLeftCorner<D, D>() * F.transpose() / J;
+  if constexpr (D == 2) sigma(2, 2) = S(2, 2) / J;  // F_zz = 1
   return sigma;
 }
 
 #define CONSERVE_INSTANTIATE(D)                                                                                       \
   template CellStart<D> cell_start<D>(const SimplexGeometry<D>&, const NodeMatrix<D>&);                              \
-  template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Lame&, const CellStart<D>&,    \
+  template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Law&, const CellStart<D>&,    \
                                            const NodeMatrix<D>&, StressScheme);                                      \
-  template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Lame&, const CellStart<D>&,     \
+  template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Law&, const CellStart<D>&,     \
                                           const NodeMatrix<D>&, StressScheme, NodeMatrix<D>&, ElementMatrix<D>&);    \
-  template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Lame&, const StepPositions<D>&, \
+  template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Law&, const StepPositions<D>&, \
                                            StressScheme);                                                             \
-  template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Lame&, const StepPositions<D>&,  \
+  template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Law&, const StepPositions<D>&,  \
                                           StressScheme, NodeMatrix<D>&, ElementMatrix<D>&);                           \
-  template double strain_energy<D>(const SimplexGeometry<D>&, const material::Lame&, const NodeMatrix<D>&);           \
-  template Mat3 cauchy_stress<D>(const SimplexGeometry<D>&, const material::Lame&, const NodeMatrix<D>&);
+  template double strain_energy<D>(const SimplexGeometry<D>&, const material::Law&, const NodeMatrix<D>&);           \
+  template Mat3 cauchy_stress<D>(const SimplexGeometry<D>&, const material::Law&, const NodeMatrix<D>&);
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)
 #undef CONSERVE_INSTANTIATE

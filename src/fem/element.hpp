@@ -5,12 +5,15 @@
 ///
 /// For a step from positions x_n to x_{n+1} of one cell:
 ///   F_{n+½} = ½(F_n + F_{n+1})
-///   conserving: S = ½(S(E_n) + S(E_{n+1}))   (exact energy for SVK)
-///   midpoint:   S = S(E(F_{n+½}))             (negative control)
+///   conserving, SVK: S = ½(S(E_n) + S(E_{n+1}))   (Simo–Tarnow, exact energy)
+///   conserving, any other law: S = Gonzalez's discrete gradient
+///                              (fem/discrete_gradient.hpp, exact energy)
+///   midpoint:   S = S(C(F_{n+½}))            (negative control)
 ///   f_A = V F_{n+½} S ∇N_A
-/// The tangent ∂f/∂x_{n+1} is not symmetric.
+/// The tangent ∂f/∂x_{n+1} is not symmetric. SVK (material::Law::svk) has
+/// a closed-form kernel; other laws go through S and ℂ of the law.
 #include "fem/simplex.hpp"
-#include "material/svk.hpp"
+#include "material/law.hpp"
 
 namespace conserve::fem {
 
@@ -38,29 +41,29 @@ CellStart<D> cell_start(const SimplexGeometry<D>& g, const NodeMatrix<D>& x_n);
 /// Internal force f (column A = f_A) [N] of the paper's residual (20), with
 /// the conserving stress of docs/theory.md, "The conserving step (18)–(26)".
 template <int D>
-NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Law& law, const StepPositions<D>& x,
                              StressScheme scheme);
 /// The same from the cell's start (cell_start(g, x_n)) and x_{n+1}: the
 /// same bits.
 template <int D>
-NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
                              const NodeMatrix<D>& x_np1, StressScheme scheme);
 
 /// Internal force and its tangent K = ∂f/∂x_{n+1}, dof order (A, i) → A·D+i.
 template <int D>
-void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const StepPositions<D>& x,
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const StepPositions<D>& x,
                             StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K);
 template <int D>
-void internal_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
                             const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K);
 
 /// Stored energy W = V ρ0Ψ(E(F)) of the cell at positions x [J].
 template <int D>
-double strain_energy(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x);
+double strain_energy(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x);
 
 /// Cauchy stress σ = J⁻¹ F S Fᵀ at positions x, embedded in 3×3 (plane
-/// strain: σ_zz = J⁻¹ λ tr E) [Pa].
+/// strain: σ_zz = J⁻¹ S_zz, λ tr E / J for SVK) [Pa].
 template <int D>
-Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Lame& lame, const NodeMatrix<D>& x);
+Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x);
 
 }  // namespace conserve::fem

@@ -22,10 +22,17 @@ enum class MassKind { consistent, lumped };
 enum class ContactScheme { paper, persistent };
 enum class PredictorKind { velocity, rigid };
 
+/// [body.material]: a point law of material::law_catalog() and its
+/// parameters (validated against the catalog), and the density.
 struct MaterialSpec {
-  double young = 0.0;    ///< Young's modulus E [Pa], > 0
-  double poisson = 0.0;  ///< Poisson's ratio ν, in (-1, 0.5)
-  double density = 0.0;  ///< reference density ρ0 [kg/m³], > 0
+  std::string model = "svk";                 ///< the law's name in material::law_catalog()
+  std::map<std::string, double> parameters;  ///< e.g. young [Pa], poisson; c10, c01, bulk [Pa]
+  double density = 0.0;                      ///< reference density ρ0 [kg/m³], > 0
+  /// The parameter `name`, 0 if the model has none of that name.
+  [[nodiscard]] double parameter(const std::string& name) const {
+    const auto it = parameters.find(name);
+    return it == parameters.end() ? 0.0 : it->second;
+  }
 };
 
 /// Where a body's mesh comes from: a file or a built-in generator.

@@ -4,18 +4,73 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
+#include "core/error.hpp"
 #include "io/names.hpp"
+#include "material/law.hpp"
 #include "io/scenario_parts.hpp"
 
 namespace conserve::io::detail {
 namespace {
 
+std::string law_parameter_names(const material::LawInfo& info) {
+  std::string names;
+  for (const auto& p : info.parameters) names += (names.empty() ? "" : ", ") + p.name;
+  return names;
+}
+
+/// "a finite number [Pa] > 0", as the parser describes its own keys.
+std::string describe(const material::LawParameter& p) {
+  std::string range;
+  if (p.min > -std::numeric_limits<double>::infinity())
+    range += fmt::format(" {} {:g}", p.min_inclusive ? "≥" : ">", p.min);
+  if (p.max < std::numeric_limits<double>::infinity())
+    range += fmt::format("{} < {:g}", range.empty() ? "" : " and", p.max);
+  return fmt::format("a finite number{}{}", p.unit.empty() ? "" : " [" + p.unit + "]", range);
+}
+
+double law_parameter(const Section& s, const material::LawParameter& p, const std::string& model) {
+  const toml::node* node = s.find(p.name);
+  if (!node) s.fail(p.name, fmt::format("missing key (a parameter of model '{}')", model), describe(p));
+  const auto value = number_value(*node);
+  if (!value) s.fail(p.name, fmt::format("got {}", type_of(*node)), describe(p));
+  if (!std::isfinite(*value)) s.fail(p.name, fmt::format("{} is not finite", *value), describe(p));
+  const bool above = p.min_inclusive ? *value >= p.min : *value > p.min;
+  if (!above || !(*value < p.max))
+    s.fail(p.name, fmt::format("{} is out of range", *value), describe(p));
+  return *value;
+}
+
+/// The model's parameters, each within its range; a key that is none of
+/// them (or `model`, `density`) is refused, naming it.
 MaterialSpec parse_material(const Section& s) {
   MaterialSpec material;
-  material.young = s.number("young");
-  material.poisson = s.number("poisson");
+  material.model = s.string("model");
+  const auto& catalog = material::law_catalog();
+  const auto it = catalog.find(material.model);
+  if (it == catalog.end()) {
+    std::string models;
+    for (const auto& [name, info] : catalog) models += (models.empty() ? "" : ", ") + name;
+    s.fail("model", fmt::format("unknown material model '{}'", material.model), "one of: " + models);
+  }
+  const material::LawInfo& info = it->second;
+  for (const std::string& key : s.keys_in_file_order()) {
+    if (key == "model" || key == "density") continue;
+    const bool known = std::any_of(info.parameters.begin(), info.parameters.end(),
+                                   [&](const material::LawParameter& p) { return p.name == key; });
+    if (!known)
+      s.fail(key, fmt::format("unknown key '{}' (not a parameter of model '{}')", key, material.model),
+             fmt::format("one of: {}, density, model", law_parameter_names(info)));
+  }
+  for (const auto& p : info.parameters) material.parameters[p.name] = law_parameter(s, p, material.model);
   material.density = s.number("density");
+  try {
+    info.make(material.parameters);
+  } catch (const InputError& e) {
+    s.fail_table(e.what(), fmt::format("parameters model '{}' can take", material.model));
+  }
   return material;
 }
 

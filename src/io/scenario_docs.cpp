@@ -2,7 +2,10 @@
 /// from the declared tables (docs/scenario.md embeds it; a test compares).
 #include <fmt/format.h>
 
+#include <limits>
+
 #include "io/scenario_keys.hpp"
+#include "material/law.hpp"
 #include "mesh/generators.hpp"
 
 namespace conserve::io {
@@ -97,6 +100,21 @@ std::string generator_section(const std::string& name, const mesh::GeneratorInfo
   return out;
 }
 
+std::string material_section(const std::string& name, const material::LawInfo& info) {
+  std::string out = fmt::format("### `model = \"{}\"`\n\n{}\n\n", name, escape_cell(info.doc));
+  out += "| parameter | unit | allowed | meaning |\n";
+  out += "|---|---|---|---|\n";
+  for (const auto& p : info.parameters) {
+    std::string range;
+    if (p.min > -std::numeric_limits<double>::infinity())
+      range = fmt::format("{} {:g}", p.min_inclusive ? "≥" : ">", p.min);
+    if (p.max < std::numeric_limits<double>::infinity())
+      range += fmt::format("{}< {:g}", range.empty() ? "" : " and ", p.max);
+    out += fmt::format("| `{}` | {} | {} | {} |\n", p.name, p.unit, range, escape_cell(p.doc));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string range_text(const KeySpec& key) {
@@ -112,6 +130,15 @@ std::string scenario_key_reference() {
   for (const auto& section : scenario_sections()) {
     if (!out.empty()) out += '\n';
     out += section_reference(section);
+  }
+  return out;
+}
+
+std::string material_reference() {
+  std::string out;
+  for (const auto& [name, info] : material::law_catalog()) {
+    if (!out.empty()) out += '\n';
+    out += material_section(name, info);
   }
   return out;
 }

@@ -270,27 +270,22 @@ SectionSpec body_section() {
 
 SectionSpec material_section() {
   return {.name = "body.material",
-          .doc = "St. Venant–Kirchhoff material of the body.",
+          .doc = "Material of the body: a point law (`model`) with its parameters, listed under \"Material "
+                 "models\" below, and the density.",
           .keys = {
-              {.name = "young",
-               .type = KeyType::number,
-               .required = true,
-               .unit = "Pa",
-               .min = above(0),
-               .doc = "Young's modulus E"},
-              {.name = "poisson",
-               .type = KeyType::number,
-               .required = true,
-               .min = above(-1),
-               .max = below(0.5),
-               .doc = "Poisson's ratio ν"},
+              {.name = "model",
+               .type = KeyType::string,
+               .default_value = "svk",
+               .doc = "the point law: svk, neo_hookean or mooney_rivlin (\"Material models\" below); only its "
+                      "parameters are accepted"},
               {.name = "density",
                .type = KeyType::number,
                .required = true,
                .unit = "kg/m³",
                .min = above(0),
                .doc = "reference density ρ0"},
-          }};
+          },
+          .open = true};
 }
 
 SectionSpec mesh_section() {

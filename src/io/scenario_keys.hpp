@@ -69,6 +69,10 @@ const SectionSpec& scenario_section(std::string_view name);
 /// scenario_sections().
 std::string scenario_key_reference();
 
+/// The material model reference of docs/scenario.md (Markdown), generated
+/// from material::law_catalog().
+std::string material_reference();
+
 /// The mesh generator reference of docs/scenario.md (Markdown), generated
 /// from mesh::generator_catalog().
 std::string generator_reference();

@@ -30,13 +30,8 @@ fs::path resolve_mesh_file(const Section& s, const fs::path& scenario_file) {
 
 /// The keys of `s` other than "generator", in file order.
 std::vector<std::string> keys_in_file_order(const Section& s) {
-  std::vector<std::pair<std::uint32_t, std::string>> keys;
-  for (const auto& [key, node] : s.table()) {
-    if (key != "generator") keys.emplace_back(line_of(node), std::string(key.str()));
-  }
-  std::sort(keys.begin(), keys.end());
-  std::vector<std::string> names;
-  for (auto& key : keys) names.push_back(std::move(key.second));
+  std::vector<std::string> names = s.keys_in_file_order();
+  names.erase(std::remove(names.begin(), names.end(), "generator"), names.end());
   return names;
 }
 

@@ -31,6 +31,15 @@ std::string with_range(std::string text, const KeySpec& key) {
 
 }  // namespace
 
+std::vector<std::string> Section::keys_in_file_order() const {
+  std::vector<std::pair<std::uint32_t, std::string>> keys;
+  for (const auto& [key, node] : *table_) keys.emplace_back(line_of(node), std::string(key.str()));
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::string> names;
+  for (auto& key : keys) names.push_back(std::move(key.second));
+  return names;
+}
+
 void fail(const Context& ctx, const toml::node& node, std::string_view key, std::string_view what,
           std::string_view expected) {
   if (const auto& source = node.source().path; source && *source == kOverrideSource)

@@ -50,6 +50,8 @@ class Section {
 
   [[nodiscard]] const toml::node* find(std::string_view key) const;
   [[nodiscard]] bool has(std::string_view key) const { return find(key) != nullptr; }
+  /// The table's keys in the order of their lines in the file.
+  [[nodiscard]] std::vector<std::string> keys_in_file_order() const;
   /// Dotted path of a key of this table, e.g. "body[0].material.young".
   [[nodiscard]] std::string path(std::string_view key) const;
   [[nodiscard]] const toml::table& table() const { return *table_; }

@@ -2,6 +2,8 @@
 /// Saint Venant–Kirchhoff hyperelasticity (docs/theory.md, "Material"):
 ///   E = ½(FᵀF − 1),  S = λ tr(E) 1 + 2μ E,  ρ0Ψ = ½ E:ℂ:E,  P = F S.
 /// In 2D the same formulas hold in plane strain (E_i3 = 0) with the 3D λ.
+/// The free functions are the closed-form kernel's (fem/element.cpp); the
+/// law object (material/svk_law.hpp) is SVK as a material::Law.
 #include "core/types.hpp"
 
 namespace conserve::material {

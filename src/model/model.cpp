@@ -29,10 +29,11 @@ void check_shape(const mesh::Mesh& mesh, const std::string& name) {
 /// A mesh without cells (a bare surface of a rigid body) gives a body with
 /// num_cells = 0 whose nodes are the mesh's points.
 template <int D>
-Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name, const material::Lame& lame,
-               double density, double thickness) {
+Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
+               std::shared_ptr<const material::Law> law, double density, double thickness) {
   check_shape<D>(mesh, name);
-  Body body{name, model.num_nodes(), mesh.num_nodes(), model.num_cells(), mesh.num_cells(), lame, density, {}};
+  Body body{name,    model.num_nodes(), mesh.num_nodes(), model.num_cells(), mesh.num_cells(), std::move(law),
+            density, {}};
   model.X.conservativeResize(D, body.first_node + body.num_nodes);
   model.X.rightCols(body.num_nodes) = mesh.points.topRows(D);
   model.cells.conservativeResize(D + 1, body.first_cell + body.num_cells);
@@ -86,7 +87,9 @@ Eigen::MatrixXi distinct_facets(const Body& body) {
   return out;
 }
 
-template Body& add_body<2>(Model<2>&, const mesh::Mesh&, const std::string&, const material::Lame&, double, double);
-template Body& add_body<3>(Model<3>&, const mesh::Mesh&, const std::string&, const material::Lame&, double, double);
+template Body& add_body<2>(Model<2>&, const mesh::Mesh&, const std::string&, std::shared_ptr<const material::Law>,
+                           double, double);
+template Body& add_body<3>(Model<3>&, const mesh::Mesh&, const std::string&, std::shared_ptr<const material::Law>,
+                           double, double);
 
 }  // namespace conserve::model

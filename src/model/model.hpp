@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "fem/simplex.hpp"
-#include "material/svk.hpp"
+#include <memory>
+
+#include "material/law.hpp"
 #include "mesh/mesh.hpp"
 
 namespace conserve::model {
@@ -19,8 +21,8 @@ struct Body {
   int num_nodes = 0;
   int first_cell = 0;
   int num_cells = 0;
-  material::Lame lame;
-  double density = 0.0;  ///< [kg/m³]
+  std::shared_ptr<const material::Law> law;  ///< the body's point law (never null)
+  double density = 0.0;                      ///< [kg/m³]
   /// Named boundary facet groups, in global node numbers (dim × n).
   std::map<std::string, Eigen::MatrixXi> facet_groups;
 };
@@ -61,8 +63,8 @@ struct Model {
 /// naming `name` if the mesh's dimension is not D or a cell is inverted or
 /// degenerate. `thickness` [m] is the out-of-plane size in 2D.
 template <int D>
-Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name, const material::Lame& lame,
-               double density, double thickness);
+Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
+               std::shared_ptr<const material::Law> law, double density, double thickness);
 
 /// Node numbers (global, sorted, unique) of a body's group; "all" is every
 /// node of the body. Throws InputError listing the groups if unknown.

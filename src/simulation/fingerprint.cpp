@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include "material/law.hpp"
+
 namespace conserve::simulation {
 namespace {
 
@@ -74,16 +76,21 @@ std::string deformation(const Eigen::Matrix3d& f) {
 
 std::string material(const io::BodySpec& b) {
   if (b.rigid && !(b.material.density > 0.0)) return "none (rigid, massless)";
-  return fmt::format("young {} Pa, poisson {}, density {} kg/m³", b.material.young, b.material.poisson,
-                     b.material.density);
+  std::string text = fmt::format("model {}", b.material.model);
+  for (const auto& p : material::law_catalog().at(b.material.model).parameters)
+    text += fmt::format(", {} {}{}", p.name, b.material.parameter(p.name), p.unit.empty() ? "" : " " + p.unit);
+  return text + fmt::format(", density {} kg/m³", b.material.density);
 }
 
 template <int D>
 void add_body(Builder& f, const io::BodySpec& spec, const model::Model<D>& model, const model::Body& body) {
   const std::string name = fmt::format("body '{}' ", body.name);
   f.add(name + "material", material(spec), [&](Hasher& h) {
-    h.value(body.lame.lambda);
-    h.value(body.lame.mu);
+    h.text(spec.rigid && !(spec.material.density > 0.0) ? "none" : spec.material.model);
+    for (const auto& [parameter, value] : spec.material.parameters) {
+      h.text(parameter);
+      h.value(value);
+    }
     h.value(body.density);
   });
   f.setting(name + "thickness", fmt::format("{}", spec.thickness));

@@ -175,11 +175,11 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   if (contacts_) grid.point_data.push_back(contact_field(model.num_nodes()));
   io::VtuField stress{"cauchy_stress", 9, {}}, energy{"strain_energy_density", 1, {}}, body{"body", 1, {}};
   for (int c = 0; c < model.num_cells(); ++c) {
-    const auto& lame = model.bodies[model.cell_body[c]].lame;
+    const material::Law& law = *model.bodies[model.cell_body[c]].law;
     const fem::NodeMatrix<D> x = assembler_.cell_positions(c, state.u);
-    const Mat3 sigma = fem::cauchy_stress<D>(model.geometry[c], lame, x);
+    const Mat3 sigma = fem::cauchy_stress<D>(model.geometry[c], law, x);
     stress.values.insert(stress.values.end(), sigma.data(), sigma.data() + 9);
-    energy.values.push_back(fem::strain_energy<D>(model.geometry[c], lame, x) / model.geometry[c].volume);
+    energy.values.push_back(fem::strain_energy<D>(model.geometry[c], law, x) / model.geometry[c].volume);
     body.values.push_back(model.cell_body[c]);
   }
   // Bare surfaces have no stress or energy density (NaN: undefined).

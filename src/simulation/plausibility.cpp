@@ -68,12 +68,14 @@ void check_impacts(const io::Scenario& scenario, const model::Model<D>& model, s
   for (std::size_t b = 0; b < scenario.bodies.size(); ++b) {
     const io::BodySpec& spec = scenario.bodies[b];
     if (spec.rigid || !(worst[b] > 0.0) || !(spec.material.density > 0.0)) continue;
-    const double wave = std::sqrt(spec.material.young / spec.material.density);
+    const material::Lame lame = model.bodies[b].law->small_strain();
+    const double young = lame.mu * (3.0 * lame.lambda + 2.0 * lame.mu) / (lame.lambda + lame.mu);
+    const double wave = std::sqrt(young / spec.material.density);
     if (!(worst[b] > kFastImpact * wave)) continue;
     out.push_back(fmt::format(
         "{}: the body may meet its contact partner at up to {:.3g} m/s (initial velocities and spins{}), {:.3g} "
-        "times its wave speed sqrt(young / density) = {:.3g} m/s; above {} of it, strains near 1 turn "
-        "Saint Venant-Kirchhoff cells inside out (is young in Pa?)",
+        "times its wave speed sqrt(E / density) = {:.3g} m/s (E its Young's modulus at small strain); above {} of "
+        "it, strains near 1 turn Saint Venant-Kirchhoff cells inside out (is the material given in Pa?)",
         scenario.sources.locate(fmt::format("body[{}].material.young", b)), worst[b],
         fall > 0.0 ? fmt::format(", a fall of {:.3g} m/s under gravity", fall) : "", worst[b] / wave, wave,
         kFastImpact));

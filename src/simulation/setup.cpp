@@ -14,6 +14,7 @@
 #include "mesh/generators.hpp"
 #include "mesh/msh_reader.hpp"
 #include "mesh/topology.hpp"
+#include "material/law.hpp"
 #include "model/initial_state.hpp"
 #include "solver/ordering.hpp"
 #include "time/integrator.hpp"
@@ -68,21 +69,23 @@ mesh::Mesh body_mesh(const io::Scenario& scenario, std::size_t i, int dim) {
 /// on a free dof (and a rigid translation has no strain anyway); density 0
 /// makes the body massless, like a bare surface, so that it adds nothing
 /// to the energies and momenta.
-io::MaterialSpec rigid_placeholder() { return {.young = 1.0, .poisson = 0.0, .density = 0.0}; }
+io::MaterialSpec rigid_placeholder() {
+  return {.model = "svk", .parameters = {{"young", 1.0}, {"poisson", 0.0}}, .density = 0.0};
+}
 
 /// Adds body `i` of the scenario to the model.
 template <int D>
 void add_body(const io::Scenario& scenario, std::size_t i, model::Model<D>& model) {
   const io::BodySpec& spec = scenario.bodies[i];
   const io::MaterialSpec material = spec.rigid && !(spec.material.density > 0.0) ? rigid_placeholder() : spec.material;
-  const auto lame = material::Lame::from_young_poisson(material.young, material.poisson);
+  auto law = at_key(scenario, i, "material", [&] { return material::make_law(material.model, material.parameters); });
   const mesh::Mesh mesh = body_mesh(scenario, i, D);
   const char* mesh_key = spec.mesh.generator.empty() ? "mesh.file" : "mesh.generator";
   if (mesh.num_cells() == 0 && !spec.rigid)
     throw body_error(scenario, i, mesh_key,
                      "the mesh has no cells; only a rigid body may be a bare surface (set rigid = true)");
   at_key(scenario, i, mesh_key,
-         [&] { model::add_body<D>(model, mesh, spec.name, lame, material.density, spec.thickness); });
+         [&] { model::add_body<D>(model, mesh, spec.name, std::move(law), material.density, spec.thickness); });
 }
 
 /// Every dof of a rigid body: u = velocity · t.
@@ -259,12 +262,16 @@ void check_scales(const io::Scenario& scenario, const model::Model<D>& model) {
     for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) volume += model.geometry[c].volume;
     const auto X = model.X.middleCols(body.first_node, body.num_nodes);
     const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
-    const double modulus = body.lame.lambda + 2.0 * body.lame.mu, mass = body.density * volume;
+    const material::Lame lame = body.law->small_strain();
+    const double modulus = lame.lambda + 2.0 * lame.mu, mass = body.density * volume;
     const double speed = spec.velocity.norm() + spec.angular_velocity.norm() * size;
+    std::string law_keys;  // "material.young and material.poisson"
+    for (const auto& p : material::law_catalog().at(spec.material.model).parameters)
+      law_keys += (law_keys.empty() ? "material." : " and material.") + p.name;
     const Scale scales[] = {
-        {"P-wave modulus λ + 2μ", "Pa", modulus, "material.young and material.poisson"},
-        {"elastic force scale (λ + 2μ)·V/L", "N", modulus * volume / size, "material.young and material.poisson"},
-        {"elastic energy scale (λ + 2μ)·V", "J", modulus * volume, "material.young and material.poisson"},
+        {"P-wave modulus λ + 2μ", "Pa", modulus, law_keys.c_str()},
+        {"elastic force scale (λ + 2μ)·V/L", "N", modulus * volume / size, law_keys.c_str()},
+        {"elastic energy scale (λ + 2μ)·V", "J", modulus * volume, law_keys.c_str()},
         {"mass", "kg", mass, "material.density"},
         {"inertia force scale m·L/Δt²", "N", mass * size / (dt * dt), "material.density and time.step"},
         {"momentum force scale 2 m v/Δt", "N", 2.0 * mass * speed / dt, "material.density, velocity and time.step"},

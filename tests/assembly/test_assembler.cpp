@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "material/svk_law.hpp"
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
 #include "support/grid_mesh.hpp"
@@ -13,8 +14,8 @@ template <int D>
 model::Model<D> small_model() {
   model::Model<D> m;
   const auto mesh = D == 3 ? test::box_mesh(3, 2, 2, 0.6, 0.4, 0.4) : test::rectangle_mesh(4, 3, 0.8, 0.6);
-  model::add_body<D>(m, mesh, "a", material::Lame::from_young_poisson(1e5, 0.3), 1200.0, 0.5);
-  model::add_body<D>(m, mesh, "b", material::Lame::from_young_poisson(3e5, 0.2), 800.0, 0.5);
+  model::add_body<D>(m, mesh, "a", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(1e5, 0.3)), 1200.0, 0.5);
+  model::add_body<D>(m, mesh, "b", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(3e5, 0.2)), 800.0, 0.5);
   return m;
 }
 

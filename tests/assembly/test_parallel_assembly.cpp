@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 
+#include "material/svk_law.hpp"
 #include "assembly/assembler.hpp"
 #include "assembly/threads.hpp"
 #include "support/grid_mesh.hpp"
@@ -20,8 +21,8 @@ template <int D>
 model::Model<D> large_model() {
   model::Model<D> m;
   const auto mesh = D == 3 ? test::box_mesh(8, 8, 7, 0.8, 0.8, 0.7) : test::rectangle_mesh(48, 40, 1.2, 1.0);
-  model::add_body<D>(m, mesh, "a", material::Lame::from_young_poisson(1e5, 0.3), 1200.0, 0.5);
-  model::add_body<D>(m, mesh, "b", material::Lame::from_young_poisson(3e5, 0.2), 800.0, 0.5);
+  model::add_body<D>(m, mesh, "a", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(1e5, 0.3)), 1200.0, 0.5);
+  model::add_body<D>(m, mesh, "b", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(3e5, 0.2)), 800.0, 0.5);
   return m;
 }
 
@@ -66,7 +67,7 @@ Assembled serial_reference(const Assembler<D>& assembler, const Eigen::VectorXd&
   r.f_tangent.setZero(m.num_dofs());
   r.K = assembler.pattern().make_matrix();
   for (int c = 0; c < m.num_cells(); ++c) {
-      const auto& lame = m.bodies[m.cell_body[c]].lame;
+      const auto& lame = *m.bodies[m.cell_body[c]].law;
       const fem::StepPositions<D> x{assembler.cell_positions(c, u_n), assembler.cell_positions(c, u_np1)};
       const fem::NodeMatrix<D> fe = fem::internal_force<D>(m.geometry[c], lame, x, fem::StressScheme::conserving);
       fem::NodeMatrix<D> fe_t;
@@ -89,7 +90,7 @@ Assembled serial_reference(const Assembler<D>& assembler, const Eigen::VectorXd&
     const auto x = assembler.cell_positions(c, u_np1);
     const double det = fem::deformation_gradient<D>(x, m.geometry[c]).determinant();
     if (det < r.orientation.det_F) r.orientation = {det, c};
-    r.energy += fem::strain_energy<D>(m.geometry[c], m.bodies[m.cell_body[c]].lame, x);
+    r.energy += fem::strain_energy<D>(m.geometry[c], *m.bodies[m.cell_body[c]].law, x);
   }
   return r;
 }

@@ -178,8 +178,16 @@ TEST(Restart, RefusalNamesAChangedTimeStep) {
 
 TEST(Restart, RefusalNamesAChangedMaterial) {
   expect_refused_naming("material", "young = 1.0e6", "young = 2.0e6",
-                        "the checkpoint was written with body 'small' material = young 1000000 Pa, poisson 0.3, "
-                        "density 1000 kg/m³, this scenario has young 2000000 Pa, poisson 0.3, density 1000 kg/m³");
+                        "the checkpoint was written with body 'small' material = model svk, young 1000000 Pa, "
+                        "poisson 0.3, density 1000 kg/m³, this scenario has model svk, young 2000000 Pa, poisson "
+                        "0.3, density 1000 kg/m³");
+}
+
+TEST(Restart, RefusalNamesAChangedMaterialModel) {
+  expect_refused_naming("model", "young = 1.0e6", "model = \"neo_hookean\"\nyoung = 1.0e6",
+                        "the checkpoint was written with body 'small' material = model svk, young 1000000 Pa, "
+                        "poisson 0.3, density 1000 kg/m³, this scenario has model neo_hookean, young 1000000 Pa, "
+                        "poisson 0.3, density 1000 kg/m³");
 }
 
 TEST(Restart, RefusalNamesAChangedContactKind) {

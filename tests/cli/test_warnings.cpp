@@ -92,7 +92,7 @@ TEST(Warnings, FireOnTheThreeSlipsAndNamePlusFigure) {
 
   const std::string soft = replaced(kSphereOnPlane, "young = 1.0e6", "young = 2.0");
   expect_one_warning("warnings_young", soft, "young = 2.0", "body[0].material.young",
-                     "times its wave speed sqrt(young / density) = 0.0426 m/s");
+                     "times its wave speed sqrt(E / density) = 0.0426 m/s");
   const std::string light = replaced(kSphereOnPlane, "density = 1100.0", "density = 1.1");
   expect_one_warning("warnings_density", light, "density = 1.1", "body[0].material.density",
                      "1.1 g/cm³ is 1100 kg/m³");

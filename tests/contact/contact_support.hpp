@@ -2,6 +2,7 @@
 /// Shared helpers of the contact tests: one-body models and surfaces.
 #include <string>
 
+#include "material/svk_law.hpp"
 #include "contact/surface.hpp"
 #include "model/model.hpp"
 
@@ -11,7 +12,7 @@ namespace conserve::test {
 template <int D>
 model::Model<D> one_body_model(const mesh::Mesh& mesh, const std::string& name = "body") {
   model::Model<D> model;
-  model::add_body<D>(model, mesh, name, material::Lame{1.0, 1.0}, 1.0, 1.0);
+  model::add_body<D>(model, mesh, name, std::make_shared<const material::Svk>(material::Lame{1.0, 1.0}), 1.0, 1.0);
   return model;
 }
 

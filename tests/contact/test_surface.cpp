@@ -8,6 +8,7 @@
 #include <cmath>
 #include <set>
 
+#include "material/svk_law.hpp"
 #include "contact/contact_support.hpp"
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
@@ -237,7 +238,7 @@ model::Model<3> box_and_square() {
   Eigen::MatrixXi again = tris;
   again.row(1).swap(again.row(2));  // the same triangles, the other way round
   square.facet_groups["under"].facets = again;
-  model::add_body<3>(model, square, "floor", material::Lame{1.0, 1.0}, 1.0, 1.0);
+  model::add_body<3>(model, square, "floor", std::make_shared<const material::Svk>(material::Lame{1.0, 1.0}), 1.0, 1.0);
   return model;
 }
 

@@ -42,7 +42,7 @@ TEST(ScenarioRigid, RigidBodyWithoutMaterial) {
   const auto& plane = s.bodies[1];
   EXPECT_TRUE(plane.rigid);
   EXPECT_EQ(plane.velocity, Eigen::Vector3d(0, 0, 0.5));
-  EXPECT_EQ(plane.material.young, 0.0);
+  EXPECT_EQ(plane.material.parameter("young"), 0.0);
   EXPECT_EQ(plane.material.density, 0.0);
   EXPECT_EQ(plane.mesh.generator, "square");
   EXPECT_EQ(plane.angular_velocity, Eigen::Vector3d::Zero());

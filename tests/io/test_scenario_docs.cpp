@@ -71,6 +71,12 @@ TEST(ScenarioDocs, GeneratorReferenceIsGeneratedFromTheCatalog) {
       << "regenerate: CONSERVE_REGENERATE_DOCS=1 ./build/release/tests/io/test_io --gtest_filter='ScenarioDocs.*'";
 }
 
+TEST(ScenarioDocs, MaterialReferenceIsGeneratedFromTheCatalog) {
+  regenerate_if_asked("MATERIAL REFERENCE", material_reference());
+  EXPECT_EQ(generated_block(docs_text(), "MATERIAL REFERENCE"), material_reference())
+      << "regenerate: CONSERVE_REGENERATE_DOCS=1 ./build/release/tests/io/test_io --gtest_filter='ScenarioDocs.*'";
+}
+
 TEST(ScenarioDocs, EveryTomlExampleParses) {
   const auto docs = docs_text();
   int examples = 0;

@@ -42,7 +42,7 @@ TEST(ScenarioErrors, TomlRedefinedTable) {
 
 TEST(ScenarioErrors, UnknownKeyInMaterial) {
   EXPECT_TRUE(fails_with(replace_line(minimal(), 7, "youngs = 1"), 7, "body[0].material.youngs",
-                         "unknown key 'youngs' (expected one of: young, poisson, density)"));
+                         "unknown key 'youngs' (not a parameter of model 'svk') (expected one of: young, poisson, density, model)"));
 }
 
 TEST(ScenarioErrors, LocatedReleasesNeedThePersistentVelocity) {

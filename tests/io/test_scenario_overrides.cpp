@@ -89,8 +89,8 @@ TEST(ScenarioOverrides, EntriesOfArraysOfTablesByNameOrIndex) {
   const Scenario s = parse_scenario(text, case_file(),
                                     {"body.b.material.young=1e7", "body.0.material.density=2000",
                                      "body.a.velocity=[1, 0, 0]", "contact.1.kind=stick", "body.b.mesh.group=cube"});
-  EXPECT_EQ(s.bodies[0].material.young, 1e6);  // not the named one
-  EXPECT_EQ(s.bodies[1].material.young, 1e7);
+  EXPECT_EQ(s.bodies[0].material.parameter("young"), 1e6);  // not the named one
+  EXPECT_EQ(s.bodies[1].material.parameter("young"), 1e7);
   EXPECT_EQ(s.bodies[0].material.density, 2000.0);
   EXPECT_EQ(s.bodies[0].velocity, Eigen::Vector3d(1, 0, 0));
   EXPECT_EQ(s.bodies[1].mesh.group, "cube");
@@ -98,7 +98,7 @@ TEST(ScenarioOverrides, EntriesOfArraysOfTablesByNameOrIndex) {
   EXPECT_EQ(s.contacts[1].kind, ContactKind::stick);
   // The effective text reads back as the same scenario.
   const Scenario again = parse_scenario(s.text, case_file());
-  EXPECT_EQ(again.bodies[1].material.young, 1e7);
+  EXPECT_EQ(again.bodies[1].material.parameter("young"), 1e7);
   EXPECT_EQ(again.contacts[1].kind, ContactKind::stick);
 }
 

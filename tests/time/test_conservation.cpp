@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "material/svk_law.hpp"
 #include "model/initial_state.hpp"
 #include "support/contact_run.hpp"
 #include "support/grid_mesh.hpp"
@@ -31,7 +32,7 @@ template <int D>
 model::Model<D> free_body_model(const Vec3& gravity) {
   model::Model<D> m;
   const auto mesh = D == 3 ? test::box_mesh(5, 2, 2, 1.0, 0.4, 0.3) : test::rectangle_mesh(8, 3, 1.0, 0.4);
-  model::add_body<D>(m, mesh, "block", material::Lame::from_young_poisson(5.0e4, 0.3), 1000.0, 1.0);
+  model::add_body<D>(m, mesh, "block", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(5.0e4, 0.3)), 1000.0, 1.0);
   m.gravity = gravity.head<D>();
   return m;
 }

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "material/svk_law.hpp"
 #include "model/initial_state.hpp"
 #include "support/grid_mesh.hpp"
 #include "time/diagnostics.hpp"
@@ -27,7 +28,7 @@ model::Model<D> cantilever(double rate) {
   const auto mesh = D == 3 ? test::box_mesh(6, 2, 2, 1.0, 0.2, 0.2) : test::rectangle_mesh(8, 2, 1.0, 0.2);
   // E = 2e6 Pa: a soft beam that sags ~0.2 m under its weight; at 2e5 Pa
   // (a static sag of ~2 m) its cells at the support turn inside out.
-  model::add_body<D>(m, mesh, "beam", material::Lame::from_young_poisson(2e6, 0.3), 1000.0, 1.0);
+  model::add_body<D>(m, mesh, "beam", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(2e6, 0.3)), 1000.0, 1.0);
   m.gravity(D - 1) = -9.81;
   for (int n : model::group_nodes(m.bodies[0], "xmin"))
     for (int k = 0; k < D; ++k) {

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 
+#include "material/svk_law.hpp"
 #include "model/initial_state.hpp"
 #include "support/grid_mesh.hpp"
 #include "time/step_problem.hpp"
@@ -24,7 +25,7 @@ struct Fixture {
 
   Fixture() {
     model::add_body<3>(model, test::box_mesh(3, 2, 2, 1.0, 0.4, 0.3), "block",
-                       material::Lame::from_young_poisson(5.0e4, 0.3), 1000.0, 1.0);
+                       std::make_shared<const material::Svk>(material::Lame::from_young_poisson(5.0e4, 0.3)), 1000.0, 1.0);
     model.gravity = Vec3(0.0, 0.0, -9.81);
     assembler = std::make_unique<assembly::Assembler<3>>(model, false);
     start = model::rest_state<3>(model);

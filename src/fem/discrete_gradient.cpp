@@ -1,0 +1,35 @@
+#include "fem/discrete_gradient.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace conserve::fem {
+
+AlgorithmicStress discrete_gradient(const material::Law& law, const Mat3& C_n, const Mat3& C_np1,
+                                    bool with_derivative) {
+  const Mat3 C_mid = 0.5 * (C_n + C_np1), dC = C_np1 - C_n;
+  AlgorithmicStress a;
+  a.S = law.stress(C_mid);
+  const double psi_np1 = law.energy(C_np1), psi_n = law.energy(C_n);
+  const double mid_work = 0.5 * a.S.cwiseProduct(dC).sum();
+  const double r = psi_np1 - psi_n - mid_work;
+  const double dCdC = dC.squaredNorm();
+  const double noise =
+      kRoundOffMultiple * std::numeric_limits<double>::epsilon() * (std::abs(psi_np1) + std::abs(psi_n) + std::abs(mid_work));
+  a.mid_point = !(dCdC > 0.0) || !(std::abs(r) > noise);
+  if (!a.mid_point) a.S += (2.0 * r / dCdC) * dC;
+  if (!with_derivative) return a;
+  const material::Mat9 C4 = law.tangent(C_mid);
+  a.dS = 0.25 * C4;
+  if (a.mid_point) return a;
+  using Vec9 = Eigen::Matrix<double, 9, 1>;
+  const Eigen::Map<const Vec9> d(dC.data());
+  const Vec9 C4d = C4 * d;
+  const Mat3 w = 0.5 * (law.stress(C_np1) - law.stress(C_mid)) - 0.125 * Eigen::Map<const Mat3>(C4d.data());
+  const double k = 2.0 / dCdC;
+  a.dS += k * (d * Eigen::Map<const Vec9>(w.data()).transpose() + r * material::symmetric_product(Mat3::Identity()) -
+               (2.0 * r / dCdC) * d * d.transpose());
+  return a;
+}
+
+}  // namespace conserve::fem
