@@ -10,12 +10,11 @@ AlgorithmicStress discrete_gradient(const material::Law& law, const Mat3& C_n, c
   const Mat3 C_mid = 0.5 * (C_n + C_np1), dC = C_np1 - C_n;
   AlgorithmicStress a;
   a.S = law.stress(C_mid);
-  const double psi_np1 = law.energy(C_np1), psi_n = law.energy(C_n);
-  const double mid_work = 0.5 * a.S.cwiseProduct(dC).sum();
-  const double r = psi_np1 - psi_n - mid_work;
+  const double r = law.energy_change(C_n, C_np1) - 0.5 * a.S.cwiseProduct(dC).sum();
   const double dCdC = dC.squaredNorm();
-  const double noise =
-      kRoundOffMultiple * std::numeric_limits<double>::epsilon() * (std::abs(psi_np1) + std::abs(psi_n) + std::abs(mid_work));
+  const material::Lame lame = law.small_strain();
+  const double noise = kRoundOffMultiple * std::numeric_limits<double>::epsilon() *
+                       (a.S.norm() + (lame.lambda + 2.0 * lame.mu) * C_mid.norm()) * std::sqrt(dCdC);
   a.mid_point = !(dCdC > 0.0) || !(std::abs(r) > noise);
   if (!a.mid_point) a.S += (2.0 * r / dCdC) * dC;
   if (!with_derivative) return a;

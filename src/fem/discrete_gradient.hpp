@@ -12,13 +12,15 @@
 
 namespace conserve::fem {
 
-/// The correction is dropped (S_algo = S(C_mid), the mid-point value) when
-/// ΔC = 0 or when |r| is within kRoundOffMultiple × ε (|ρ0Ψ_{n+1}| +
-/// |ρ0Ψ_n| + |½S(C_mid):ΔC|) of zero, the round-off r is computed with:
-/// the mid-point stress then misses the step's energy by no more than that
-/// round-off, and r / (ΔC:ΔC) is never formed from noise. Since r =
-/// O(|ΔC|³), this is a relative threshold |ΔC| ≲ (ε ρ0Ψ / Ψ''')^⅓ that adapts
-/// to the energy: about 1e-5 for strains of 30 % in a neo-Hookean cell.
+/// r is computed from ΔC (material::Law::energy_change), so its round-off
+/// is about ε (|S(C_mid)| + M |C_mid|) |ΔC|, M the law's small-strain
+/// P-wave modulus λ + 2μ: the correction 2r ΔC/(ΔC:ΔC) then carries
+/// round-off of order ε M |C|, that of the stress itself, however small
+/// the step. The correction is dropped (S_algo = S(C_mid), the mid-point
+/// value) when ΔC = 0 or |r| is within kRoundOffMultiple times that
+/// round-off: the mid-point stress then misses the step's energy by no
+/// more than the round-off r is known to. Since r = O(|ΔC|³) this is a
+/// threshold on |ΔC| relative to C, about 1e-7 in the tests.
 inline constexpr double kRoundOffMultiple = 16.0;
 
 struct AlgorithmicStress {

@@ -26,6 +26,11 @@ Mat9 symmetric_product(const Mat3& A);
 /// The dyad (A ⊗ B)_ijkl = A_ij B_kl.
 Mat9 dyad(const Mat3& A, const Mat3& B);
 
+/// ln(det(C + dC) / det C), accurate when dC is small: the change of the
+/// determinant from det(A + B) = det A + tr(adj(A) B) + tr(A adj(B)) +
+/// det B, then log1p (for energy_change; ln J_{n+1} − ln J_n is half of it).
+double log_det_ratio(const Mat3& C, const Mat3& dC);
+
 template <int D>
 Mat3 embed_plane_strain(const Mat<D>& C) {
   if constexpr (D == 3) {
@@ -42,6 +47,13 @@ class Law {
   virtual ~Law() = default;
   /// Stored energy per reference volume ρ0Ψ(C) [J/m³].
   [[nodiscard]] virtual double energy(const Mat3& C) const = 0;
+  /// ρ0Ψ(C_{n+1}) − ρ0Ψ(C_n) [J/m³]. The discrete gradient divides it by
+  /// |ΔC|, so laws it serves compute it from ΔC with round-off of order
+  /// ε·(their moduli)·|ΔC|, not as a difference of two energies (whose
+  /// round-off, ε·(moduli)·|C|, does not shrink with the step).
+  [[nodiscard]] virtual double energy_change(const Mat3& C_n, const Mat3& C_np1) const {
+    return energy(C_np1) - energy(C_n);
+  }
   /// S = 2 ∂(ρ0Ψ)/∂C [Pa], symmetric.
   [[nodiscard]] virtual Mat3 stress(const Mat3& C) const = 0;
   /// ℂ = 4 ∂²(ρ0Ψ)/∂C∂C [Pa], with minor and major symmetries.

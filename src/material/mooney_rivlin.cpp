@@ -28,6 +28,22 @@ double MooneyRivlin::energy(const Mat3& C) const {
          0.5 * k_.bulk * (v.J - 1.0) * (v.J - 1.0);
 }
 
+// Each term's change from ΔC and d = ln J_{n+1} − ln J_n without
+// subtracting energies: J^a_{n+1} − J^a_n = J^a_n expm1(a d),
+// ΔI₁ = tr ΔC, ΔI₂ = ½(ΔI₁ (I₁ + I₁') − ΔC:(C + C')).
+double MooneyRivlin::energy_change(const Mat3& C_n, const Mat3& C_np1) const {
+  const Mat3 dC = C_np1 - C_n;
+  const Invariants v = invariants(C_n);
+  const double d = 0.5 * log_det_ratio(C_n, dC);
+  const double dI1 = dC.trace(), I1_np1 = v.I1 + dI1;
+  const double dI2 = 0.5 * (dI1 * (v.I1 + I1_np1) - dC.cwiseProduct(C_n + C_np1).sum());
+  const double a_n = std::pow(v.J, -2.0 / 3.0), b_n = std::pow(v.J, -4.0 / 3.0);
+  const double da = a_n * std::expm1(-2.0 * d / 3.0), db = b_n * std::expm1(-4.0 * d / 3.0);
+  const double dJ = v.J * std::expm1(d);
+  return k_.c10 * ((a_n + da) * dI1 + v.I1 * da) + k_.c01 * ((b_n + db) * dI2 + v.I2 * db) +
+         0.5 * k_.bulk * dJ * (2.0 * v.J + dJ - 2.0);
+}
+
 Mat3 MooneyRivlin::stress(const Mat3& C) const {
   const Invariants v = invariants(C);
   const Mat3 I = Mat3::Identity();

@@ -9,6 +9,14 @@ double NeoHookean::energy(const Mat3& C) const {
   return 0.5 * lame_.mu * (C.trace() - 3.0) - lame_.mu * log_J + 0.5 * lame_.lambda * log_J * log_J;
 }
 
+// With d = ln J_{n+1} − ln J_n: μ/2 tr ΔC − μ d + λ/2 d (ln J_{n+1} + ln J_n).
+double NeoHookean::energy_change(const Mat3& C_n, const Mat3& C_np1) const {
+  const Mat3 dC = C_np1 - C_n;
+  const double d = 0.5 * log_det_ratio(C_n, dC);
+  const double log_J_n = 0.5 * std::log(C_n.determinant());
+  return 0.5 * lame_.mu * dC.trace() - lame_.mu * d + 0.5 * lame_.lambda * d * (2.0 * log_J_n + d);
+}
+
 Mat3 NeoHookean::stress(const Mat3& C) const {
   const Mat3 C_inv = C.inverse();
   const double log_J = 0.5 * std::log(C.determinant());

@@ -19,17 +19,24 @@ namespace {
 using material::test::LawCase;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-/// |½ S_algo:ΔC − ΔΨ| and the scale it is round-off of.
+/// |½ S_algo:ΔC − ΔΨ| (ΔΨ from Law::energy_change) and the scale it is
+/// round-off of: (|S| + M|C|)|ΔC|, M the small-strain P-wave modulus.
 struct Identity {
   double error = 0.0, scale = 0.0;
   bool mid_point = false;
 };
 
+double modulus(const material::Law& law) {
+  const material::Lame l = law.small_strain();
+  return l.lambda + 2.0 * l.mu;
+}
+
 Identity identity(const material::Law& law, const Mat3& C_n, const Mat3& C_np1) {
   const AlgorithmicStress a = discrete_gradient(law, C_n, C_np1, false);
-  const double psi_n = law.energy(C_n), psi_np1 = law.energy(C_np1);
-  const double work = 0.5 * a.S.cwiseProduct(C_np1 - C_n).sum();
-  return {std::abs(work - (psi_np1 - psi_n)), std::abs(psi_n) + std::abs(psi_np1) + std::abs(work), a.mid_point};
+  const Mat3 dC = C_np1 - C_n;
+  const double work = 0.5 * a.S.cwiseProduct(dC).sum();
+  return {std::abs(work - law.energy_change(C_n, C_np1)),
+          (a.S.norm() + modulus(law) * (0.5 * (C_n + C_np1)).norm()) * dC.norm(), a.mid_point};
 }
 
 template <int D>
@@ -69,7 +76,7 @@ void check_identity_across_the_fallback(const LawCase& c) {
     const Mat3 C_a = material::test::right_cauchy_green<D>(material::test::random_F<D>(rng, 0.3));
     const Mat3 C_b = material::test::right_cauchy_green<D>(material::test::random_F<D>(rng, 0.3));
     bool last = false;
-    for (double s = 1.0; s > 1e-12; s /= std::pow(10.0, 0.125)) {
+    for (double s = 1.0; s > 1e-14; s /= std::pow(10.0, 0.125)) {
       const Identity id = identity(*law, C_a, C_a + s * (C_b - C_a));
       (id.mid_point ? fallbacks : corrected)++;
       if (id.mid_point != last && s < 1.0) {  // around the switch, both sides
@@ -82,14 +89,18 @@ void check_identity_across_the_fallback(const LawCase& c) {
   }
   EXPECT_LT(worst, 64.0 * kEps) << c.model;
   EXPECT_GT(fallbacks, 0) << c.model;
-  if (c.model != "svk") EXPECT_GT(corrected, 0) << c.model;  // SVK: r = 0 up to round-off, always the mid-point
+  EXPECT_GT(corrected, 0) << c.model;
 }
 
+// (SVK is left out: its r is zero up to round-off at any step, and the
+// program never gives it the discrete gradient.)
 TEST(DiscreteGradient, EnergyIdentityAcrossTheFallback3d) {
-  for (const auto& c : material::test::law_cases()) check_identity_across_the_fallback<3>(c);
+  for (const auto& c : material::test::law_cases())
+    if (c.model != "svk") check_identity_across_the_fallback<3>(c);
 }
 TEST(DiscreteGradient, EnergyIdentityAcrossTheFallback2d) {
-  for (const auto& c : material::test::law_cases()) check_identity_across_the_fallback<2>(c);
+  for (const auto& c : material::test::law_cases())
+    if (c.model != "svk") check_identity_across_the_fallback<2>(c);
 }
 
 template <int D>
@@ -123,6 +134,52 @@ TEST(DiscreteGradient, DerivativeMatchesDifferences3d) {
 }
 TEST(DiscreteGradient, DerivativeMatchesDifferences2d) {
   for (const auto& c : material::test::law_cases()) check_derivative<2>(c);
+}
+
+/// The correction 2r ΔC/(ΔC:ΔC) is O(|ΔC|²) and never noise: however small
+/// the step, S_algo − S(C_mid) stays within 1e-13 M (round-off of the
+/// stress) + 10 M |ΔC|² (the quadrature error of the mid-point rule).
+template <int D>
+void check_no_noise_at_small_steps(const LawCase& c) {
+  const auto law = material::test::make(c);
+  std::mt19937 rng(25);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Mat3 C_a = material::test::right_cauchy_green<D>(material::test::random_F<D>(rng, 0.3));
+    const Mat3 C_b = material::test::right_cauchy_green<D>(material::test::random_F<D>(rng, 0.3));
+    for (double s = 1e-3; s > 1e-14; s /= std::pow(10.0, 0.125)) {
+      const Mat3 C_np1 = C_a + s * (C_b - C_a), dC = C_np1 - C_a;
+      const Mat3 correction = discrete_gradient(*law, C_a, C_np1, false).S - law->stress(0.5 * (C_a + C_np1));
+      EXPECT_LT(correction.norm(), modulus(*law) * (10.0 * dC.squaredNorm() + 1e-13)) << c.model << " s = " << s;
+    }
+  }
+}
+
+TEST(DiscreteGradient, NoNoiseAtSmallSteps3d) {
+  for (const auto& c : material::test::law_cases())
+    if (c.model != "svk") check_no_noise_at_small_steps<3>(c);
+}
+TEST(DiscreteGradient, NoNoiseAtSmallSteps2d) {
+  for (const auto& c : material::test::law_cases())
+    if (c.model != "svk") check_no_noise_at_small_steps<2>(c);
+}
+
+/// Law::energy_change of a tiny step is ½ S(C_mid):ΔC up to O(|ΔC|³) and
+/// round-off ε M |ΔC|; the difference of two energies misses it by ε M |C|
+/// (the negative control), which is why the discrete gradient uses it.
+TEST(DiscreteGradient, EnergyChangeIsAccurateForTinySteps) {
+  std::mt19937 rng(26);
+  for (const auto& c : material::test::law_cases()) {
+    if (c.model == "svk") continue;  // SVK never takes the discrete gradient
+    const auto law = material::test::make(c);
+    const Mat3 C_n = material::test::right_cauchy_green<3>(material::test::random_F<3>(rng, 0.3));
+    const Mat3 C_np1 = C_n + 1e-10 * material::test::right_cauchy_green<3>(material::test::random_F<3>(rng, 0.3));
+    const Mat3 dC = C_np1 - C_n;
+    const double mid = 0.5 * law->stress(0.5 * (C_n + C_np1)).cwiseProduct(dC).sum();
+    const double round_off = kEps * modulus(*law) * dC.norm();
+    ASSERT_GT(std::abs(mid), 1e3 * round_off);  // non-zero guard
+    EXPECT_LT(std::abs(law->energy_change(C_n, C_np1) - mid), 16.0 * round_off) << c.model;
+    EXPECT_GT(std::abs(law->energy(C_np1) - law->energy(C_n) - mid), 16.0 * round_off) << c.model << ": the control";
+  }
 }
 
 TEST(DiscreteGradient, ForSvkItIsTheSimoTarnowStress) {
