@@ -22,14 +22,14 @@ using conserve::simulation::RunSummary;
 
 void print_summary(const RunSummary& s) {
   fmt::print("finished {} steps in {:.2f} s ({:.2f} Newton iterations per step, at most {})\n", s.steps, s.wall_seconds,
-             s.mean_newton_iterations, s.max_newton_iterations);
+             s.statistic("mean_newton_iterations"), s.statistic("max_newton_iterations"));
   fmt::print(
       "relative drift: E {:.2e}  L ({:.2e}, {:.2e}, {:.2e})  J ({:.2e}, {:.2e}, {:.2e})  "
       "(of E_ref = {:.3e} J, L_ref = {:.3e} kg m/s, J_ref = {:.3e} kg m²/s: the largest K + W, Σ|p| and Σ|p| × size "
       "seen)\n",
       s.energy_drift, s.linear_drift.x(), s.linear_drift.y(), s.linear_drift.z(), s.angular_drift.x(),
       s.angular_drift.y(), s.angular_drift.z(), s.energy_reference, s.momentum_reference, s.angular_reference);
-  fmt::print("smallest det F {:.4g}\n", s.min_det_F);
+  fmt::print("smallest det F {:.4g}\n", s.statistic("min_det_F"));
   const auto& t = s.timings;
   fmt::print(
       "time: assembly {:.2f} s on {} thread{} ({}), contact elimination {:.2f} s, linear set-up {:.2f} s ({} "
@@ -50,19 +50,20 @@ void print_summary(const RunSummary& s) {
   if (s.cutbacks > 0)
     fmt::print("cutbacks: {} failed steps retried with a halved time step (smallest {:.3e} s), see steps.csv\n",
                s.cutbacks, s.min_dt);
-  if (s.activations + s.releases > 0)
+  if (s.statistic("activations") + s.statistic("releases") > 0)
     fmt::print(
         "contact: {} activations, {} releases ({} held after a release), largest gap at activation {:.3e} m; "
         "active gaps {:.3e} to {:.3e} m; deepest penetration {:.3e} m (slave nodes behind master facets {:.3e} m, "
         "master nodes behind slave facets {:.3e} m)\n",
-        s.activations, s.releases, s.held, s.max_activation_gap, s.min_active_gap, s.max_active_gap,
-        s.max_penetration(), s.slave_penetration, s.master_penetration);
-  if (s.pushes_given_up > 0)
+        s.statistic("activations"), s.statistic("releases"), s.statistic("held"), s.statistic("max_activation_gap"),
+        s.statistic("min_active_gap"), s.statistic("max_active_gap"), s.statistic("max_penetration"),
+        s.statistic("slave_penetration"), s.statistic("master_penetration"));
+  if (s.statistic("pushes_given_up") > 0)
     fmt::print(
         "contact: {} push-out(s) given up, their work more than the bodies could give back: slaves that came in "
         "behind a master beyond its border, through a face that is no master, were held where they were (down to "
         "{:.3e} m); history.csv's pushes_given_up says when. Make those faces masters too.\n",
-        s.pushes_given_up, s.min_active_gap);
+        s.statistic("pushes_given_up"), s.statistic("min_active_gap"));
   fmt::print("output: {}/history.csv, {}/solution.pvd", s.output_directory.string(), s.output_directory.string());
   if (s.earlier_files_removed > 0)
     fmt::print(" ({} files of an earlier run in that folder removed first)", s.earlier_files_removed);

@@ -27,7 +27,7 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// given-up push-outs (contact::Constraint::hold) and their count in the
 /// run's totals. 10: the constraints' force at the start of their last
 /// step and the lengths of the last two steps (located releases).
-constexpr std::uint32_t kVersion = 11;
+constexpr std::uint32_t kVersion = 12;
 
 /// Appends raw values to a byte buffer.
 class Writer {
@@ -138,49 +138,41 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(t.energy_drift);
   w.doubles(t.linear_drift.data(), 3);
   w.doubles(t.angular_drift.data(), 3);
-  w.value(t.newton_iterations);
-  w.value(static_cast<std::int32_t>(t.max_newton_iterations));
-  w.value(static_cast<std::int64_t>(t.activations));
-  w.value(static_cast<std::int64_t>(t.releases));
-  w.value(static_cast<std::int64_t>(t.held));
-  w.value(static_cast<std::int64_t>(t.chatter));
-  w.value(static_cast<std::int64_t>(t.loaded_releases));
-  w.value(static_cast<std::int64_t>(t.splits));
-  w.value(static_cast<std::int64_t>(t.split_passes));
-  w.value(static_cast<std::int64_t>(t.rate_steps));
-  w.value(static_cast<std::int64_t>(t.pushes));
-  w.value(static_cast<std::int64_t>(t.creases));
-  w.value(t.push_work);
-  w.value(static_cast<std::int64_t>(t.pushes_given_up));
-  w.value(t.max_activation_gap);
-  for (double v : {t.energy_reference, t.momentum_reference, t.min_active_gap, t.max_active_gap,
-                   t.slave_penetration, t.master_penetration, t.min_det_F})
-    w.value(v);
+  w.value(t.energy_reference);
+  w.value(t.momentum_reference);
+  const std::vector<std::string> keys = RunStatistics::keys();
+  w.value(static_cast<std::uint64_t>(keys.size()));
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    w.text(keys[k]);
+    w.value(t.statistics.accumulated[k]);
+  }
+  w.value(t.statistics.steps);
 }
 
+/// The run statistics, key by key: a checkpoint of a conserve with other
+/// statistics is refused naming the first that differs.
 RunTotals read_totals(Reader& r) {
   RunTotals t;
   t.energy_drift = r.value<double>();
   r.doubles(t.linear_drift.data(), 3, "the linear drift");
   r.doubles(t.angular_drift.data(), 3, "the angular drift");
-  t.newton_iterations = r.value<double>();
-  t.max_newton_iterations = r.value<std::int32_t>();
-  t.activations = r.value<std::int64_t>();
-  t.releases = r.value<std::int64_t>();
-  t.held = r.value<std::int64_t>();
-  t.chatter = r.value<std::int64_t>();
-  t.loaded_releases = r.value<std::int64_t>();
-  t.splits = r.value<std::int64_t>();
-  t.split_passes = r.value<std::int64_t>();
-  t.rate_steps = r.value<std::int64_t>();
-  t.pushes = r.value<std::int64_t>();
-  t.creases = r.value<std::int64_t>();
-  t.push_work = r.value<double>();
-  t.pushes_given_up = r.value<std::int64_t>();
-  t.max_activation_gap = r.value<double>();
-  for (double* v : {&t.energy_reference, &t.momentum_reference, &t.min_active_gap, &t.max_active_gap,
-                    &t.slave_penetration, &t.master_penetration, &t.min_det_F})
-    *v = r.value<double>();
+  t.energy_reference = r.value<double>();
+  t.momentum_reference = r.value<double>();
+  const std::vector<std::string> keys = RunStatistics::keys();
+  const auto count = r.value<std::uint64_t>();
+  if (count != keys.size())
+    r.fail(fmt::format("it holds {} run statistics, this conserve keeps {} (restart with the conserve that wrote "
+                       "it, or run from the start)",
+                       count, keys.size()));
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::string key = r.text(256);
+    if (key != keys[k])
+      r.fail(fmt::format("its run statistic {} is '{}' where this conserve keeps '{}' (restart with the conserve "
+                         "that wrote it, or run from the start)",
+                         k, key, keys[k]));
+    t.statistics.accumulated[k] = r.value<double>();
+  }
+  t.statistics.steps = r.value<double>();
   return t;
 }
 
@@ -219,27 +211,6 @@ std::string slurp(const std::filesystem::path& file) {
 
 }  // namespace
 
-void RunTotals::add(const contact::StepContactStats& c) {
-  activations += c.activations;
-  releases += c.releases;
-  held += c.held;
-  chatter += c.chatter;
-  loaded_releases += c.loaded_releases;
-  splits += c.splits;
-  split_passes += c.split_passes;
-  rate_steps += c.rate_steps;
-  pushes += c.pushes;
-  creases += c.creases;
-  push_work += c.push_work;
-  pushes_given_up += c.pushes_given_up;
-  max_activation_gap = std::max(max_activation_gap, c.max_activation_gap);
-  slave_penetration = std::max(slave_penetration, c.slave_penetration);
-  master_penetration = std::max(master_penetration, c.master_penetration);
-  if (!std::isnan(c.min_active_gap)) {
-    min_active_gap = std::isnan(min_active_gap) ? c.min_active_gap : std::min(min_active_gap, c.min_active_gap);
-    max_active_gap = std::isnan(max_active_gap) ? c.max_active_gap : std::max(max_active_gap, c.max_active_gap);
-  }
-}
 
 std::filesystem::path checkpoint_path(const std::filesystem::path& output_directory, std::int64_t step) {
   return output_directory / "checkpoints" / fmt::format("ckpt_{:06d}.bin", step);

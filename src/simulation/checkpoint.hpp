@@ -14,42 +14,18 @@
 #include "model/model.hpp"
 #include "model/state.hpp"
 #include "simulation/fingerprint.hpp"
+#include "simulation/statistics.hpp"
 
 namespace conserve::simulation {
 
 /// The run's accumulators that summary.json reports.
 struct RunTotals {
-  double energy_drift = 0.0;        ///< largest |E − E0| / E_ref (simulation/drift.hpp)
+  double energy_drift = 0.0;          ///< largest |E − E0| / E_ref (simulation/drift.hpp)
   Vec3 linear_drift = Vec3::Zero();   ///< per component, largest |L_i − L_i0| / L_ref
   Vec3 angular_drift = Vec3::Zero();  ///< per component, largest |J_i − J_i0| / J_ref
-  double energy_reference = 0.0;    ///< E_ref: largest K + W so far [J]
-  double momentum_reference = 0.0;  ///< L_ref: largest Σ|(MV)_A| so far [kg m/s]
-  double newton_iterations = 0.0;   ///< sum over the steps
-  int max_newton_iterations = 0;
-  std::int64_t activations = 0;
-  std::int64_t releases = 0;
-  std::int64_t held = 0;  ///< released slaves re-activated and held within their step
-  std::int64_t chatter = 0;          ///< releases within contact::kChatterWindow steps of the activation
-  std::int64_t loaded_releases = 0;  ///< releases of slaves that pressed at the previous step's end
-  std::int64_t splits = 0;           ///< attempts given up to end a step at an impact
-  std::int64_t split_passes = 0;     ///< solves of those attempts
-  std::int64_t rate_steps = 0;       ///< constraint-steps under the rate condition (48) (contact::Constraint::rate)
-  std::int64_t pushes = 0;           ///< slaves pushed out from behind their facets (contact::Constraint::push)
-  std::int64_t creases = 0;          ///< crease pairs formed (contact::ActiveSet::crease)
-  double push_work = 0.0;            ///< the push-outs' work taken back out of the velocities [J]
-  std::int64_t pushes_given_up = 0;  ///< push-outs given up, the slaves held (contact::Constraint::hold)
-  double max_activation_gap = 0.0;
-  /// Extremes over the steps: gaps of the active slaves (NaN while none
-  /// was ever active) and the deepest penetrations, slaves behind master
-  /// facets and master nodes behind slave facets [m]; smallest det F.
-  double min_active_gap = std::numeric_limits<double>::quiet_NaN();
-  double max_active_gap = std::numeric_limits<double>::quiet_NaN();
-  double slave_penetration = 0.0;
-  double master_penetration = 0.0;
-  double min_det_F = std::numeric_limits<double>::infinity();
-
-  /// Adds one step's contact figures.
-  void add(const contact::StepContactStats& c);
+  double energy_reference = 0.0;      ///< E_ref: largest K + W so far [J]
+  double momentum_reference = 0.0;    ///< L_ref: largest Σ|(MV)_A| so far [kg m/s]
+  RunStatistics statistics;           ///< simulation/statistics.hpp
 };
 
 /// The adaptive step size: halved on a failed step, doubled back (up to

@@ -11,44 +11,11 @@
 namespace conserve::simulation {
 
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names) {
-  std::vector<std::string> c = {"step",
-                                "time",
-                                "kinetic",
-                                "strain",
-                                "potential",
-                                "total",
-                                "L_x",
-                                "L_y",
-                                "L_z",
-                                "J_x",
-                                "J_y",
-                                "J_z",
-                                "newton_iterations",
-                                "residual",
-                                "active_contacts",
-                                "activations",
-                                "releases",
-                                "active_set_passes",
-                                "max_activation_gap",
-                                "contact_force",
-                                "min_active_gap",
-                                "max_active_gap",
-                                "max_penetration",
-                                "slave_penetration",
-                                "master_penetration",
-                                "held",
-                                "chatter",
-                                "loaded_releases",
-                                "impact_splits",
-                                "rate_steps",
-                                "pushes",
-                                "creases",
-                                "push_work",
-                                "pushes_given_up",
-                                "min_det_F",
-                                "drift_E",
-                                "drift_L",
-                                "drift_J"};
+  std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
+                                "J_x",  "J_y",  "J_z"};
+  for (const Statistic& s : statistics())
+    if (!s.column.empty()) c.emplace_back(s.column);
+  c.insert(c.end(), {"drift_E", "drift_L", "drift_J"});
   for (const auto& name : body_names)
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
   return c;
@@ -101,12 +68,9 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
 }
 
 template <int D>
-void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& d, const StepRecord& step,
-                            const Drifts& drift, bool last) {
-  const auto& forces = contacts_ ? contacts_->normal_forces() : std::vector<double>{};
-  double contact_force = 0.0;
-  for (double f : forces) contact_force += f;
-  const contact::StepContactStats& c = step.contact;
+void OutputWriter<D>::write(const model::State& state, const StepFigures& figures, const Drifts& drift,
+                            bool last) {
+  const time::Diagnostics& d = figures.diagnostics;
   std::vector<double> row = {static_cast<double>(state.step),
                              state.time,
                              d.kinetic,
@@ -118,33 +82,10 @@ void OutputWriter<D>::write(const model::State& state, const time::Diagnostics& 
                              d.linear.z(),
                              d.angular.x(),
                              d.angular.y(),
-                             d.angular.z(),
-                             static_cast<double>(step.newton.iterations),
-                             step.newton.final_residual(),
-                             static_cast<double>(forces.size()),
-                             static_cast<double>(c.activations),
-                             static_cast<double>(c.releases),
-                             static_cast<double>(c.passes),
-                             c.max_activation_gap,
-                             contact_force,
-                             c.min_active_gap,
-                             c.max_active_gap,
-                             std::max(c.slave_penetration, c.master_penetration),
-                             c.slave_penetration,
-                             c.master_penetration,
-                             static_cast<double>(c.held),
-                             static_cast<double>(c.chatter),
-                             static_cast<double>(c.loaded_releases),
-                             static_cast<double>(c.splits),
-                             static_cast<double>(c.rate_steps),
-                             static_cast<double>(c.pushes),
-                             static_cast<double>(c.creases),
-                             c.push_work,
-                             static_cast<double>(c.pushes_given_up),
-                             d.min_det_F,
-                             drift.energy,
-                             drift.linear,
-                             drift.angular};
+                             d.angular.z()};
+  for (const Statistic& s : statistics())
+    if (!s.column.empty()) row.push_back(s.value(figures));
+  row.insert(row.end(), {drift.energy, drift.linear, drift.angular});
   for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
   history_.write_row(row);
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);

@@ -33,11 +33,10 @@ class OutputWriter {
                const contact::ActiveSet<D>* contacts = nullptr, bool contact_state = false,
                std::optional<double> resume_time = std::nullopt);
 
-  /// Appends the history row of `state` (step: what the step that produced
-  /// it did, empty for the initial state; drift: its relative drifts) and
-  /// writes a VTU if due.
-  void write(const model::State& state, const time::Diagnostics& d, const StepRecord& step, const Drifts& drift,
-             bool last);
+  /// Appends the history row of `state` (figures: what the step that
+  /// produced it did, an empty record for the initial state; drift: its
+  /// relative drifts) and writes a VTU if due.
+  void write(const model::State& state, const StepFigures& figures, const Drifts& drift, bool last);
   /// Writes a VTU of `state` (if VTU output is on) without a history row,
   /// e.g. the last converged state of a run that stops.
   void write_snapshot(const model::State& state) {

@@ -37,6 +37,15 @@ std::int64_t step_count(const io::TimeSpec& t) {
 /// step there; within 1e-6 Δt counts as reached).
 bool finished(const io::TimeSpec& t, const model::State& state) { return state.time >= t.end - 1e-6 * t.step; }
 
+/// What step `record` (ending in diagnostics `d`, the active set
+/// `contacts`) gives the statistics.
+template <int D>
+StepFigures figures_of(const StepRecord& record, const time::Diagnostics& d, const contact::ActiveSet<D>& contacts) {
+  double force = 0.0;
+  for (double f : contacts.normal_forces()) force += f;
+  return {record, d, static_cast<int>(contacts.normal_forces().size()), force};
+}
+
 template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const auto started = std::chrono::system_clock::now();
@@ -75,8 +84,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   std::ofstream cutback_log(dir / "cutbacks.log", state.step > 0 ? std::ios::app : std::ios::trunc);
   const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
-    output.write(state, d0, StepRecord{}, drift.add(d0, totals), finished(sc.time, state) || max_steps == 0);
-    totals.min_det_F = std::min(totals.min_det_F, d0.min_det_F);
+    const StepRecord none;
+    const StepFigures figures = figures_of<D>(none, d0, contacts);
+    output.write(state, figures, drift.add(d0, totals), finished(sc.time, state) || max_steps == 0);
+    totals.statistics.add(figures, false);
     steps_csv.write_row({0.0, state.time, 0.0, 0.0});
   }
   auto save = [&](const model::State& s, std::vector<contact::Constraint<D>> constraints) {
@@ -114,16 +125,14 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     }
     const time::Diagnostics d = time::diagnostics<D>(assembler, state);
     const Drifts drifts = drift.add(d, totals);
+    const StepFigures figures = figures_of<D>(record, d, contacts);
     const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
     {
       solver::ScopedTimer timer(summary.output_seconds);
-      output.write(state, d, record, drifts, last);
+      output.write(state, figures, drifts, last);
       steps_csv.write_row({static_cast<double>(state.step), state.time, dt, static_cast<double>(failures)});
     }
-    totals.newton_iterations += record.newton.iterations;
-    totals.max_newton_iterations = std::max(totals.max_newton_iterations, record.newton.iterations);
-    totals.add(record.contact);
-    totals.min_det_F = std::min(totals.min_det_F, d.min_det_F);
+    totals.statistics.add(figures, true);
     if (sc.output.checkpoint_every > 0 && state.step % sc.output.checkpoint_every == 0) {
       solver::ScopedTimer timer(summary.output_seconds);
       integrator.drop_factorization();  // a restart starts without one
@@ -148,27 +157,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.energy_drift = totals.energy_drift;
   summary.linear_drift = totals.linear_drift;
   summary.angular_drift = totals.angular_drift;
-  summary.mean_newton_iterations =
-      totals.newton_iterations / static_cast<double>(std::max<std::int64_t>(state.step, 1));
-  summary.max_newton_iterations = totals.max_newton_iterations;
-  summary.activations = totals.activations;
-  summary.releases = totals.releases;
-  summary.max_activation_gap = totals.max_activation_gap;
-  summary.held = totals.held;
-  summary.chatter = totals.chatter;
-  summary.loaded_releases = totals.loaded_releases;
-  summary.splits = totals.splits;
-  summary.split_passes = totals.split_passes;
-  summary.rate_steps = totals.rate_steps;
-  summary.pushes = totals.pushes;
-  summary.creases = totals.creases;
-  summary.push_work = totals.push_work;
-  summary.pushes_given_up = totals.pushes_given_up;
-  summary.min_active_gap = totals.min_active_gap;
-  summary.max_active_gap = totals.max_active_gap;
-  summary.slave_penetration = totals.slave_penetration;
-  summary.master_penetration = totals.master_penetration;
-  summary.min_det_F = totals.min_det_F;
+  summary.statistics = totals.statistics;
   summary.energy_reference = totals.energy_reference;
   summary.momentum_reference = totals.momentum_reference;
   summary.angular_reference = totals.momentum_reference * problem.model.size();

@@ -23,12 +23,6 @@ namespace conserve::simulation {
 [[nodiscard]] solver::NewtonSettings newton_settings(const io::NewtonSpec& newton, const io::SolverSpec& solver);
 [[nodiscard]] solver::LinearSolverSettings linear_settings(const io::SolverSpec& solver);
 
-/// What one step did, for the history.
-struct StepRecord {
-  solver::NewtonReport newton;
-  contact::StepContactStats contact;
-};
-
 /// The last converged state could not be advanced even at the cutback
 /// floor [time].min_step.
 class FloorReached : public SolverError {

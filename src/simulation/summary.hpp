@@ -10,6 +10,7 @@
 
 #include "core/types.hpp"
 #include "io/scenario.hpp"
+#include "simulation/statistics.hpp"
 #include "solver/timings.hpp"
 
 namespace conserve::simulation {
@@ -24,28 +25,11 @@ struct RunSummary {
   double energy_reference = 0.0;      ///< E_ref: the largest K + W seen [J]
   double momentum_reference = 0.0;    ///< L_ref: the largest Σ_A |(MV)_A| seen [kg m/s]
   double angular_reference = 0.0;     ///< J_ref = L_ref × the model's size [kg m²/s]
-  double mean_newton_iterations = 0.0;
-  int max_newton_iterations = 0;
-  std::int64_t activations = 0;     ///< contact activations over the run
-  std::int64_t releases = 0;        ///< contact releases over the run
-  double max_activation_gap = 0.0;  ///< largest gap of a slave at activation [m]
-  std::int64_t held = 0;            ///< released slaves re-activated and held within their step
-  std::int64_t chatter = 0;         ///< releases within contact::kChatterWindow steps of the activation
-  std::int64_t loaded_releases = 0; ///< releases of slaves that pressed at the end of the previous step
-  std::int64_t splits = 0;          ///< attempts of steps given up to end them at an impact
-  std::int64_t split_passes = 0;    ///< solves of those attempts (beyond the steps' own)
-  std::int64_t rate_steps = 0;      ///< constraint-steps under the rate condition (48) (contact::Constraint::rate)
-  std::int64_t pushes = 0;          ///< slaves pushed out from behind their facets (contact::Constraint::push)
-  std::int64_t creases = 0;         ///< crease pairs formed (contact::ActiveSet::crease)
-  double push_work = 0.0;           ///< the push-outs' work taken back out of the velocities [J]
-  std::int64_t pushes_given_up = 0;  ///< push-outs given up, the slaves held (contact::Constraint::hold)
-  double min_active_gap = 0.0;      ///< smallest gap of an active slave at a step's end [m] (NaN: none)
-  double max_active_gap = 0.0;      ///< largest gap of an active slave at a step's end [m] (NaN: none)
-  double slave_penetration = 0.0;   ///< deepest slave node behind a master facet at a step's end [m]
-  double master_penetration = 0.0;  ///< deepest master node behind a slave facet at a step's end [m]
-  /// The deeper of the two [m].
-  [[nodiscard]] double max_penetration() const { return std::max(slave_penetration, master_penetration); }
-  double min_det_F = 0.0;           ///< smallest det F of a cell at a step's end
+  /// The run statistics (simulation/statistics.hpp): Newton iterations,
+  /// contact counts, gaps, penetrations, smallest det F.
+  RunStatistics statistics;
+  /// The run value of statistic key `key` (summary.json's).
+  [[nodiscard]] double statistic(std::string_view key) const { return statistics.value(key); }
   std::filesystem::path output_directory;
   int earlier_files_removed = 0;  ///< files of an earlier run removed from it (simulation/output_folder.hpp)
   solver::Timings timings;      ///< where the wall time went
