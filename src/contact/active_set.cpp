@@ -7,54 +7,14 @@
 #include "contact/zero_work.hpp"
 
 namespace conserve::contact {
-namespace {
-
-/// Per node of `surface` (aligned with surface.nodes): the longest edge of
-/// the facets at it, at positions x [m].
-template <int D>
-std::vector<double> longest_edges(const ContactSurface& surface, const Positions<D>& x) {
-  const std::vector<double> facet = facet_sizes<D>(surface, x);
-  std::vector<double> size(surface.nodes.size(), 0.0);
-  for (std::size_t i = 0; i < surface.nodes.size(); ++i)
-    for (int f : surface.node_facets[i]) size[i] = std::max(size[i], facet[static_cast<std::size_t>(f)]);
-  return size;
-}
-
-/// `pair` the other way round: its master surface's nodes searched against
-/// its slave surface's facets by the same rules, the broad phase's radius
-/// from the slave facets' longest edge (as make_contact_pairs sets it from
-/// the master's).
-template <int D>
-ContactPair<D> reversed(const ContactPair<D>& pair, const Positions<D>& x) {
-  ContactPair<D> r;
-  r.slave = pair.master;
-  r.master = pair.slave;
-  r.kind = pair.kind;
-  r.search = pair.search;
-  const std::vector<double> edges = facet_sizes<D>(r.master, x);
-  const double longest = edges.empty() ? 0.0 : *std::max_element(edges.begin(), edges.end());
-  r.search.search_distance = r.search.depth_factor * longest;
-  r.tree.build(r.master.facets, x);
-  return r;
-}
-
-}  // namespace
 
 template <int D>
 ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>> pairs)
     : model_(model),
-      pairs_(std::move(pairs)),
+      collisions_(model, std::move(pairs)),
       released_(model.num_nodes(), 0),
       held_(model.num_nodes(), 0),
-      given_up_(model.num_nodes(), 0),
-      prescribed_(model.num_nodes(), 0) {
-  for (int d : model.prescribed.dofs) prescribed_[d / D] = 1;
-  const Positions<D> x = model.X;
-  for (auto& pair : pairs_) {
-    pair.tree.build(pair.master.facets, x);
-    facet_size_.push_back(longest_edges<D>(pair.slave, x));
-    reversed_.push_back(reversed<D>(pair, x));
-  }
+      given_up_(model.num_nodes(), 0) {
   slot_.assign(model.num_nodes(), -1);
   index_active();
 }
@@ -64,15 +24,15 @@ void ActiveSet<D>::index_active() {
   count_.assign(model_.num_nodes(), 0);
   first_pair_.assign(model_.num_nodes(), -1);
   first_normal_.assign(model_.num_nodes(), Vec<D>::Zero());
-  active_in_.resize(pairs_.size());
-  for (std::size_t p = 0; p < pairs_.size(); ++p) active_in_[p].assign(pairs_[p].slave.nodes.size(), 0);
+  active_in_.resize(static_cast<std::size_t>(collisions_.size()));
+  for (int p = 0; p < collisions_.size(); ++p) active_in_[p].assign(pair(p).slave.nodes.size(), 0);
   for (const Constraint<D>& c : active_) mark(c);
 }
 
 template <int D>
 void ActiveSet<D>::mark(const Constraint<D>& c) {
   if (count_[c.slave]++ == 0) first_pair_[c.slave] = c.pair, first_normal_[c.slave] = c.normal;
-  const int i = pairs_[c.pair].slave.local_node(c.slave);
+  const int i = pair(c.pair).slave.local_node(c.slave);
   if (i >= 0) active_in_[c.pair][static_cast<std::size_t>(i)] = 1;
 }
 
@@ -80,14 +40,14 @@ template <int D>
 bool ActiveSet<D>::can_hold(int p, int s, const Vec<D>& normal) const {
   if (count_[s] == 0) return true;
   if (count_[s] > 1 || first_pair_[s] == p) return false;
-  return pairs_[p].kind == Kind::frictionless && pairs_[first_pair_[s]].kind == Kind::frictionless &&
+  return pair(p).kind == Kind::frictionless && pair(first_pair_[s]).kind == Kind::frictionless &&
          std::abs(normal.dot(first_normal_[s])) < kParallelCosine;
 }
 
 template <int D>
 std::optional<Constraint<D>> ActiveSet<D>::activation(int p, std::size_t i, int s, const Match<D>& match,
                                                       const Positions<D>& x_n, const Positions<D>& x_np1) const {
-  if (!(match.projection.gap < -pairs_[p].search.penetration_tolerance)) return std::nullopt;
+  if (!(match.projection.gap < -pair(p).search.penetration_tolerance)) return std::nullopt;
   if (active_in_[p][i]) return crease(p, s, match, x_n, x_np1);
   if (!can_hold(p, s, match.projection.normal)) return std::nullopt;
   return make_constraint(p, s, match, x_n, x_np1);
@@ -96,10 +56,10 @@ std::optional<Constraint<D>> ActiveSet<D>::activation(int p, std::size_t i, int 
 template <int D>
 std::optional<Constraint<D>> ActiveSet<D>::crease(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                                   const Positions<D>& x_np1) const {
-  if (count_[s] != 1 || first_pair_[s] != p || pairs_[p].kind != Kind::frictionless) return std::nullopt;
+  if (count_[s] != 1 || first_pair_[s] != p || pair(p).kind != Kind::frictionless) return std::nullopt;
   const auto held = std::find_if(active_.begin(), active_.end(), [s](const Constraint<D>& c) { return c.slave == s; });
   if (held == active_.end() || held->facet == end.facet || held->push || held->rate) return std::nullopt;
-  const auto& facets = pairs_[p].master.facets;
+  const auto& facets = pair(p).master.facets;
   bool shared = false;
   for (int a = 0; a < D; ++a)
     for (int b = 0; b < D; ++b) shared = shared || facets(a, end.facet) == held->master[b];
@@ -163,7 +123,7 @@ double ActiveSet<D>::release_step(std::int64_t step, double full, double last, d
 template <int D>
 Elimination<D> ActiveSet<D>::elimination(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u,
                                          std::shared_ptr<TangentReduction<D>> reduction) {
-  return Elimination<D>(model_.X, u_n, u, active_, pairs_, std::move(reduction));
+  return Elimination<D>(model_.X, u_n, u, active_, collisions_.pairs(), std::move(reduction));
 }
 
 template <int D>
@@ -177,53 +137,6 @@ void ActiveSet<D>::set_constraints(std::vector<Constraint<D>> constraints) {
 template <int D>
 Positions<D> ActiveSet<D>::positions(const Eigen::VectorXd& u) const {
   return model_.X + u.reshaped(D, model_.num_nodes());
-}
-
-/// Whether slave s, behind facet `end.facet` at the end of the step (x)
-/// but beyond the surface's border there, entered through the surface: it
-/// was not behind that facet's plane at the start of the step (x_n), and
-/// the point where its straight path crossed the plane (ξ interpolated
-/// linearly at the gap's zero) lies over the surface. A slave level with
-/// the border (the bottom rims of two rings standing on one plane) has its
-/// projection pushed beyond a tilted border facet by any penetration, and
-/// would sink unseen; one passing beside the master crosses the plane
-/// beyond the border and is left alone.
-template <int D>
-bool entered_through(const ContactPair<D>& pair, int s, const Match<D>& end, const Positions<D>& x_n,
-                     const Positions<D>& x) {
-  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pair.master, end.facet, x_n));
-  if (!(start.gap >= 0.0) || !(end.projection.gap < start.gap)) return false;
-  const double at = start.gap / (start.gap - end.projection.gap);
-  const FacetNodes<D> facet = facet_nodes<D>(pair.master, end.facet, x);
-  const Vec<D> crossing = facet * facet_shape<D>(start.xi + at * (end.projection.xi - start.xi));
-  return over_surface<D>(crossing, Match<D>{end.facet, project<D>(crossing, facet)}, pair.master, x,
-                         pair.search.border_tolerance);
-}
-
-template <int D>
-std::optional<Match<D>> ActiveSet<D>::search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
-                                             const Vec<D>& slave_normal, const Positions<D>* x_n) const {
-  const int s = pair.slave.nodes[i];
-  const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal, &pair.frames);
-  if (!match) return std::nullopt;
-  if (over_surface<D>(x.col(s), *match, pair.master, x, pair.search.border_tolerance)) return match;
-  if (x_n && entered_through<D>(pair, s, *match, *x_n, x)) return match;
-  return std::nullopt;
-}
-
-template <int D>
-template <class Visit>
-void ActiveSet<D>::for_each_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n) {
-  for (int p = 0; p < static_cast<int>(pairs_.size()); ++p) {
-    ContactPair<D>& pair = pairs_[p];
-    pair.refit(x);
-    const std::vector<Vec<D>> normals = node_normals<D>(pair.slave, x);
-    for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i) {
-      const int s = pair.slave.nodes[i];
-      if (prescribed_[s]) continue;
-      if (const auto match = search(pair, i, x, normals[i], x_n)) visit(p, i, s, *match);
-    }
-  }
 }
 
 template <int D>
@@ -244,7 +157,7 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
   for (std::size_t k = 0; k < active_.size(); ++k) {
     Constraint<D>& c = active_[k];
     if (!c.rate) continue;
-    end_gap[k] = project<D>(x_np1.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_np1)).gap;
+    end_gap[k] = project<D>(x_np1.col(c.slave), facet_nodes<D>(pair(c.pair).master, c.facet, x_np1)).gap;
     if (end_gap[k] < 0.0 && c.kind == Kind::frictionless && count_[c.slave] == 1 && !c.hold)
       c.rate = false, c.gap = 0.0, c.push = pushed = true;
   }
@@ -277,7 +190,7 @@ void ActiveSet<D>::hold_pushes(const Eigen::VectorXd& u_n) {
     c.hold = true;
     if (given_up_[c.slave] == 0) given_up_[c.slave] = 2;
     if (c.activated_step != step_) ++old_given_up_;
-    c.gap = project<D>(x_n.col(c.slave), facet_nodes<D>(pairs_[c.pair].master, c.facet, x_n)).gap;
+    c.gap = project<D>(x_n.col(c.slave), facet_nodes<D>(pair(c.pair).master, c.facet, x_n)).gap;
   }
 }
 
@@ -300,8 +213,8 @@ double ActiveSet<D>::split_at(const Constraint<D>& c, const Match<D>& end, const
   const double drop = c.gap - end.projection.gap;  // > target
   double fraction = target / drop;                 // the straight path's estimate
   if (v_n_.size() > 0) {
-    const ContactPair<D>& pair = pairs_[c.pair];
-    const Projection<D> start = project<D>(x_n.col(c.slave), facet_nodes<D>(pair.master, c.facet, x_n));
+    const ContactPair<D>& pr = pair(c.pair);
+    const Projection<D> start = project<D>(x_n.col(c.slave), facet_nodes<D>(pr.master, c.facet, x_n));
     const Vec<D> N = facet_shape<D>(start.xi);
     Vec<D> relative = v_n_.template segment<D>(c.slave * D);
     for (int b = 0; b < D; ++b) relative -= N(b) * v_n_.template segment<D>(c.master[b] * D);
@@ -326,7 +239,7 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
   if (!located() || !allow_splits_) return 1.0;
   const Positions<D> x_n = positions(u_n), x = positions(u);
   double fraction = 1.0;
-  for_each_match(
+  collisions_.for_each_match(
       x,
       [&](int p, std::size_t i, int s, const Match<D>& match) {
         if (const auto c = activation(p, i, s, match, x_n, x)) fraction = std::min(fraction, split_at(*c, match, x_n));
@@ -342,7 +255,7 @@ double ActiveSet<D>::push_target(const Constraint<D>& c, double start_gap) const
 
 template <int D>
 double ActiveSet<D>::facet_size(int pair, int slave) const {
-  return facet_size_[pair][static_cast<std::size_t>(pairs_[pair].slave.local_node(slave))];
+  return collisions_.facet_size(pair, slave);
 }
 
 template <int D>
@@ -425,11 +338,11 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   bool changed = false;
   const bool split = allow_splits_ && located();
-  std::vector<std::vector<double>> active_gap(pairs_.size());  // per pair, per slave (local)
-  for (std::size_t p = 0; p < pairs_.size(); ++p) active_gap[p].assign(pairs_[p].slave.nodes.size(), nan);
+  std::vector<std::vector<double>> active_gap(static_cast<std::size_t>(collisions_.size()));  // per pair, per slave
+  for (int p = 0; p < collisions_.size(); ++p) active_gap[p].assign(pair(p).slave.nodes.size(), nan);
   std::vector<Constraint<D>> activated;
   double deepest = 0.0, min_gap = inf, max_gap = -inf;
-  for_each_match(x_np1, [&](int p, std::size_t i, int s, const Match<D>& match) {
+  collisions_.for_each_match(x_np1, [&](int p, std::size_t i, int s, const Match<D>& match) {
     deepest = std::max(deepest, -match.projection.gap);
     if (active_in_[p][i]) active_gap[p][i] = match.projection.gap;
     if (const auto c = activation(p, i, s, match, x_n, x_np1)) {
@@ -440,9 +353,9 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
     }
   }, &x_n);
   for (const Constraint<D>& c : active_) {
-    const ContactPair<D>& pair = pairs_[c.pair];
-    double gap = active_gap[c.pair][static_cast<std::size_t>(pair.slave.local_node(c.slave))];
-    if (std::isnan(gap)) gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pair.master, c.facet, x_np1)).gap;
+    const ContactPair<D>& pr = pair(c.pair);
+    double gap = active_gap[c.pair][static_cast<std::size_t>(pr.slave.local_node(c.slave))];
+    if (std::isnan(gap)) gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pr.master, c.facet, x_np1)).gap;
     min_gap = std::min(min_gap, gap);
     max_gap = std::max(max_gap, gap);
   }
@@ -483,16 +396,16 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
 template <int D>
 Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                             const Positions<D>& x_np1) const {
-  const ContactPair<D>& pair = pairs_[p];
+  const ContactPair<D>& pr = pair(p);
   const Positions<D> x_mid = 0.5 * (x_n + x_np1);
-  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pair.master, end.facet, x_n));
-  const Projection<D> mid = project<D>(x_mid.col(s), facet_nodes<D>(pair.master, end.facet, x_mid));
+  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pr.master, end.facet, x_n));
+  const Projection<D> mid = project<D>(x_mid.col(s), facet_nodes<D>(pr.master, end.facet, x_mid));
   Constraint<D> c;
   c.pair = p;
   c.slave = s;
-  c.kind = pair.kind;
+  c.kind = pr.kind;
   c.facet = end.facet;
-  for (int a = 0; a < D; ++a) c.master[a] = pair.master.facets(a, c.facet);
+  for (int a = 0; a < D; ++a) c.master[a] = pr.master.facets(a, c.facet);
   c.xi = c.kind == Kind::stick ? start.xi : mid.xi;
   c.normal = mid.normal;
   c.tangents = mid.tangents;
@@ -535,30 +448,13 @@ double ActiveSet<D>::push_out(const Constraint<D>& c, const Positions<D>& x_a, c
 
 template <int D>
 Penetration ActiveSet<D>::master_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd& u_n) {
-  const Positions<D> x = positions(u), x_n = positions(u_n);
-  Penetration deepest;
-  for (ContactPair<D>& r : reversed_) {
-    r.refit(x);
-    const std::vector<Vec<D>> normals = node_normals<D>(r.slave, x);
-    for (std::size_t i = 0; i < r.slave.nodes.size(); ++i)
-      if (const auto match = search(r, i, x, normals[i], &x_n); match && -match->projection.gap > deepest.depth)
-        deepest = {-match->projection.gap, r.slave.nodes[i]};
-  }
-  return deepest;
+  return collisions_.master_penetration(positions(u), positions(u_n));
 }
 
 template <int D>
 Penetration ActiveSet<D>::slave_penetration(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n) {
-  const Positions<D> x = positions(u);
   const Positions<D> x_n = u_n ? positions(*u_n) : Positions<D>();
-  Penetration deepest;
-  for_each_match(
-      x,
-      [&](int, std::size_t, int s, const Match<D>& match) {
-        if (-match.projection.gap > deepest.depth) deepest = {-match.projection.gap, s};
-      },
-      u_n ? &x_n : nullptr);
-  return deepest;
+  return collisions_.slave_penetration(positions(u), u_n ? &x_n : nullptr);
 }
 
 template <int D>
@@ -568,17 +464,17 @@ ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u, const Eigen::Vect
   const Positions<D> x = positions(u);
   const Positions<D> x_n = u_n ? positions(*u_n) : Positions<D>();
   std::vector<std::vector<Vec<D>>> normals;
-  for (ContactPair<D>& pair : pairs_) {
-    pair.refit(x);
-    normals.push_back(node_normals<D>(pair.slave, x));
+  for (int p = 0; p < collisions_.size(); ++p) {
+    collisions_.refit(p, x);
+    normals.push_back(node_normals<D>(pair(p).slave, x));
   }
   ActiveGaps gaps{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (const Constraint<D>& c : active_) {
-    const ContactPair<D>& pair = pairs_[c.pair];
-    const auto i = static_cast<std::size_t>(pair.slave.local_node(c.slave));
-    const auto match = search(pair, i, x, normals[c.pair][i], u_n ? &x_n : nullptr);
+    const ContactPair<D>& pr = pair(c.pair);
+    const auto i = static_cast<std::size_t>(pr.slave.local_node(c.slave));
+    const auto match = collisions_.match(c.pair, i, x, normals[c.pair][i], u_n ? &x_n : nullptr);
     const double gap = match ? match->projection.gap
-                             : project<D>(x.col(c.slave), facet_nodes<D>(pair.master, c.facet, x)).gap;
+                             : project<D>(x.col(c.slave), facet_nodes<D>(pr.master, c.facet, x)).gap;
     gaps.min = std::min(gaps.min, gap);
     gaps.max = std::max(gaps.max, gap);
   }

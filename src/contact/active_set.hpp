@@ -16,6 +16,7 @@
 #include <optional>
 #include <vector>
 
+#include "contact/collision_set.hpp"
 #include "contact/constraint.hpp"
 #include "contact/elimination.hpp"
 #include "contact/persistent_velocity.hpp"
@@ -120,13 +121,6 @@ enum class SetChange {
   split,    ///< an impact within the step: end the step earlier (StepContactStats::split_fraction)
 };
 
-/// The deepest penetration found by ActiveSet::slave_penetration or
-/// ActiveSet::master_penetration.
-struct Penetration {
-  double depth = 0.0;  ///< ≥ 0 [m]
-  int node = -1;       ///< global slave node, −1 if none
-};
-
 /// Signed gaps of the active slaves at some positions [m]: NaN if none.
 struct ActiveGaps {
   double min = 0.0;
@@ -138,9 +132,11 @@ class ActiveSet {
  public:
   ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>> pairs);
 
-  [[nodiscard]] bool empty() const { return pairs_.empty(); }
+  [[nodiscard]] bool empty() const { return collisions_.empty(); }
   [[nodiscard]] const std::vector<Constraint<D>>& constraints() const { return active_; }
-  [[nodiscard]] const std::vector<ContactPair<D>>& pairs() const { return pairs_; }
+  [[nodiscard]] const std::vector<ContactPair<D>>& pairs() const { return collisions_.pairs(); }
+  /// The search this set activates from (contact/collision_set.hpp).
+  [[nodiscard]] CollisionSet<D>& collisions() { return collisions_; }
   /// Normal force f_N = g_s·n_{n+½} of each constraint after the last update [N].
   [[nodiscard]] const std::vector<double>& normal_forces() const { return normal_forces_; }
 
@@ -257,18 +253,6 @@ class ActiveSet {
   /// γ = 0. Deeper slaves stay behind and are pushed on in the next step
   /// (begin_step).
   [[nodiscard]] double push_target(const Constraint<D>& c, double start_gap) const;
-  /// The master facet slave `pair.slave.nodes[i]` is behind or in front of
-  /// at positions x (the tree refitted to x), if the slave is over the
-  /// surface (over_surface()); given the step's start x_n, also a facet
-  /// beyond the border that the slave entered through the surface in the
-  /// step (entered_through).
-  [[nodiscard]] std::optional<Match<D>> search(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
-                                               const Vec<D>& slave_normal, const Positions<D>* x_n = nullptr) const;
-  /// Calls visit(pair, i, slave node, match) for every slave that is not
-  /// prescribed and has a master facet at positions x (search(), with x_n
-  /// if given), pair by pair (each pair's tree refitted to x first).
-  template <class Visit>
-  void for_each_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n = nullptr);
 
   /// Whether slave node s may take a constraint of pair p whose facet has
   /// normal `normal`: when it holds none, or holds one frictionless
@@ -304,10 +288,9 @@ class ActiveSet {
   [[nodiscard]] std::vector<double> split_forces(const Eigen::VectorXd& g);
 
   const model::Model<D>& model_;
-  std::vector<ContactPair<D>> pairs_;
-  /// Per pair, the pair the other way round (master nodes against slave
-  /// facets), searched only to measure master_penetration.
-  std::vector<ContactPair<D>> reversed_;
+  CollisionSet<D> collisions_;
+  /// Pair p of the collision set.
+  [[nodiscard]] const ContactPair<D>& pair(int p) const { return collisions_.pair(p); }
   std::vector<Constraint<D>> active_;
   std::vector<double> normal_forces_;
   std::vector<char> count_;                   ///< per node: active constraints it is the slave of (0–2)
@@ -325,12 +308,8 @@ class ActiveSet {
   /// Constraints from before this step whose push-out was given up in it
   /// (hold_pushes); with the step's new held slaves, StepContactStats::pushes_given_up.
   int old_given_up_ = 0;
-  std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step
-  /// Per pair, per slave node (local): the longest edge of the slave
-  /// facets at the node in the reference configuration [m].
-  std::vector<std::vector<double>> facet_size_;
   /// With impacts located, the largest gap a slave is activated with as a
   /// fraction of its facet size (gap_tolerance()); 0 when they are not.
   double gap_tolerance_ = 0.0;
