@@ -49,7 +49,7 @@ struct Drift {
 };
 
 template <int D>
-Drift run(ContactRun<D>& run) {
+Drift measure(ContactRun<D>& run) {
   const Diagnostics d0 = run.diagnostics();
   const int steps = static_cast<int>(std::round(run.scenario.time.end / run.scenario.time.step));
   // Relative to the largest K + W and Σ|p| (the drift references of summary.json)
@@ -71,7 +71,7 @@ Drift run(ContactRun<D>& run) {
 template <int D>
 void check_glancing_impact(const std::string& model) {
   ContactRun<D> run(with_model(test::glancing_spheres(D, "frictionless", 0.1), model));
-  const Drift r = time::run<D>(run);
+  const Drift r = measure<D>(run);
   std::printf("[ measured ] %s, frictionless glancing impact %dD, 200 steps: E %.2e  L %.2e  J %.2e  (%d contact steps)\n",
               model.c_str(), D, r.energy, r.linear, r.angular, r.contact_steps);
   EXPECT_GT(r.contact_steps, 5) << model;
@@ -92,7 +92,7 @@ TEST(MaterialContact, FrictionlessImpactEveryLaw2d) {
 TEST(MaterialContact, LocatedPersistentImpactEveryLaw3d) {
   for (const char* model : {"neo_hookean", "mooney_rivlin"}) {
     ContactRun<3> run(with_model(test::located(test::glancing_spheres(3, "frictionless", 0.1)), model));
-    const Drift r = time::run<3>(run);
+    const Drift r = measure<3>(run);
     std::printf("[ measured ] %s, located + persistent glancing impact 3D: E %.2e  L %.2e  J %.2e  (%d contact steps)\n",
                 model, r.energy, r.linear, r.angular, r.contact_steps);
     EXPECT_GT(r.contact_steps, 5) << model;
@@ -105,7 +105,7 @@ TEST(MaterialContact, LocatedPersistentImpactEveryLaw3d) {
 TEST(MaterialContact, BallOnThePlaneWithStickEveryLaw) {
   for (const char* model : {"neo_hookean", "mooney_rivlin"}) {
     ContactRun<3> run(with_model(test::ball_on_plane("stick", 0.12), model));
-    const Drift r = time::run<3>(run);
+    const Drift r = measure<3>(run);
     std::printf("[ measured ] %s, the ball on the plane with stick, 120 steps: E %.2e (%d contact steps)\n", model,
                 r.energy, r.contact_steps);
     EXPECT_GT(r.contact_steps, 20) << model;
