@@ -6,7 +6,7 @@
 /// contact/search.hpp), and the pair the other way round only to measure
 /// how far master nodes are behind slave facets. It holds the search's
 /// trees and frames but no contact state: which constraints are active is
-/// the constraint method's (contact/active_set.hpp for elimination).
+/// the constraint method's (contact/elimination/active_set.hpp for elimination).
 #include <optional>
 #include <vector>
 

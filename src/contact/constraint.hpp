@@ -48,7 +48,7 @@ struct ContactPair {
 /// One active constraint: slave node s tied to a master facet. The
 /// constraint holds the slave's gap γ at the end of every step (so that it
 /// never ends behind its master) with a contact force that does no work
-/// (contact/zero_work.hpp).
+/// (contact/elimination/zero_work.hpp).
 template <int D>
 struct Constraint {
   int pair = -1;

@@ -63,6 +63,9 @@ struct BodySpec {
   bool rigid = false;
 };
 
+/// How a penalty force is evaluated in the step.
+enum class PenaltyForce { conserving, midpoint };
+
 enum class ContactKind {
   frictionless,  ///< paper §4.3.2: conserves E, L and J
   stick,         ///< paper §4.3.1: full stick, conserves E and L
@@ -79,6 +82,9 @@ struct ContactSpec {
   /// Far-side cut-off: a facet counts while the slave is less than
   /// depth_factor × (its longest edge) behind it.
   double depth_factor = 0.5;
+  std::string method = "elimination";  ///< constraint method (contact/method.hpp); the same for every pair
+  double penalty = 0.0;                ///< penalty stiffness ε [Pa/m]; 0: automatic
+  PenaltyForce penalty_force = PenaltyForce::conserving;
 };
 
 /// Active-set control (docs/theory.md, "The step with contact").

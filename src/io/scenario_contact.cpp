@@ -52,6 +52,14 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   contact.master_group = master.group;
   contact.kind = s.string("kind") == "stick" ? ContactKind::stick : ContactKind::frictionless;
   contact.depth_factor = s.number("depth_factor");
+  contact.method = s.string("method");
+  contact.penalty = s.number("penalty");
+  contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
+  if (contact.method != "penalty") {
+    if (s.has("penalty")) s.fail("penalty", "is read by method = \"penalty\" only", "no penalty key, or method = \"penalty\"");
+    if (s.has("penalty_force"))
+      s.fail("penalty_force", "is read by method = \"penalty\" only", "no penalty_force key, or method = \"penalty\"");
+  }
   return contact;
 }
 
@@ -64,9 +72,21 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
   std::vector<ContactSpec> contacts;
   for (const auto& table : top.table_array("contact")) {
     ContactSpec c = parse_contact(table, bodies);
+    // Later pairs take the first pair's method unless they name one: one
+    // key changes the method of a whole scenario.
+    if (!contacts.empty() && !table.has("method")) c.method = contacts.front().method;
+    if (!contacts.empty() && !table.has("penalty_force")) c.penalty_force = contacts.front().penalty_force;
+    if (!contacts.empty() && c.method != contacts.front().method)
+      table.fail("method",
+                 fmt::format("'{}' differs from contact[0]'s '{}'; one constraint method serves every pair", c.method,
+                             contacts.front().method),
+                 fmt::format("method = \"{}\" as in contact[0]", contacts.front().method));
+    if (!contacts.empty() && c.penalty_force != contacts.front().penalty_force)
+      table.fail("penalty_force", "differs from contact[0]'s; one force evaluation serves every pair",
+                 "the same penalty_force in every [[contact]]");
     // Direct elimination holds one side of a pair of surfaces: with both
     // directions, slaves of each would sit on facets of each other's nodes,
-    // a cycle the elimination cannot order (contact/elimination_impl.hpp).
+    // a cycle the elimination cannot order (contact/elimination/elimination_impl.hpp).
     const std::string slave = slave_name(c), master = master_name(c);
     for (std::size_t j = 0; j < contacts.size(); ++j) {
       const std::string earlier_slave = slave_name(contacts[j]), earlier_master = master_name(contacts[j]);

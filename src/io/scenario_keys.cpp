@@ -366,6 +366,28 @@ SectionSpec contact_section() {
                .min = above(0),
                .doc = "far-side cut-off: a facet counts while the slave node is less than depth_factor × "
                       "(the facet's longest edge) behind it"},
+              {.name = "method",
+               .type = KeyType::choice,
+               .default_value = "elimination",
+               .choices = {"elimination", "penalty"},
+               .doc = "constraint method, the same for every pair (later pairs take the first pair's): "
+                      "`elimination` (the slave's unknowns eliminated, no penetration) or `penalty` (a penalty "
+                      "potential; the slave penetrates by about its pressure / `penalty`)"},
+              {.name = "penalty",
+               .type = KeyType::number,
+               .default_value = "0",
+               .unit = "Pa/m",
+               .min = at_least(0),
+               .doc = "method = \"penalty\": stiffness ε per unit area of the slave node's share of its "
+                      "surface; 0 = automatic, the smaller of E/h over the pair's deformable sides (E the "
+                      "body's Young's modulus, h the median facet size of its surface)"},
+              {.name = "penalty_force",
+               .type = KeyType::choice,
+               .default_value = "conserving",
+               .choices = {"conserving", "midpoint"},
+               .doc = "method = \"penalty\", the same for every pair: `conserving` (discrete gradient: "
+                      "energy incl. the springs', L and J conserved) or `midpoint` (the force at the mid-point "
+                      "configuration; does not conserve energy, a negative control)"},
           }};
 }
 

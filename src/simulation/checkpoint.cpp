@@ -11,6 +11,7 @@
 #include <string_view>
 #include <system_error>
 
+#include "core/bytes.hpp"
 #include "core/error.hpp"
 
 namespace conserve::simulation {
@@ -27,112 +28,11 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// given-up push-outs (contact::Constraint::hold) and their count in the
 /// run's totals. 10: the constraints' force at the start of their last
 /// step and the lengths of the last two steps (located releases).
-constexpr std::uint32_t kVersion = 12;
+/// 13: the contact method's state as its own bytes (contact::Method::save).
+constexpr std::uint32_t kVersion = 13;
 
-/// Appends raw values to a byte buffer.
-class Writer {
- public:
-  template <class T>
-  void value(const T& v) {
-    buffer_.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  void text(const std::string& s) {
-    value(static_cast<std::uint64_t>(s.size()));
-    buffer_.append(s);
-  }
-  void doubles(const double* data, std::size_t count) {
-    value(static_cast<std::uint64_t>(count));
-    buffer_.append(reinterpret_cast<const char*>(data), count * sizeof(double));
-  }
-  [[nodiscard]] const std::string& bytes() const { return buffer_; }
-
- private:
-  std::string buffer_;
-};
-
-/// Reads raw values back; throws InputError naming the file when short.
-class Reader {
- public:
-  Reader(std::string bytes, std::filesystem::path file) : bytes_(std::move(bytes)), file_(std::move(file)) {}
-  template <class T>
-  T value() {
-    T v{};
-    take(&v, sizeof v);
-    return v;
-  }
-  void doubles(double* data, std::size_t count, std::string_view what) {
-    const auto stored = value<std::uint64_t>();
-    if (stored != count)
-      fail(fmt::format("{} has {} values, this run has {} (not a checkpoint of this scenario)", what, stored, count));
-    take(data, count * sizeof(double));
-  }
-  /// A string of at most `most` printable bytes (no control characters).
-  std::string text(std::size_t most) {
-    const auto size = value<std::uint64_t>();
-    if (size > most) fail("a fingerprint entry is too long");
-    std::string s(size, '\0');
-    take(s.data(), size);
-    if (std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
-      fail("a fingerprint entry holds a control character");
-    return s;
-  }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(fmt::format("{}: bad checkpoint: {}", file_.string(), what));
-  }
-  [[nodiscard]] bool at_end() const { return at_ == bytes_.size(); }
-
- private:
-  void take(void* data, std::size_t size) {
-    if (bytes_.size() - at_ < size) fail("the file is truncated");
-    std::memcpy(data, bytes_.data() + at_, size);
-    at_ += size;
-  }
-  std::string bytes_;
-  std::filesystem::path file_;
-  std::size_t at_ = 0;
-};
-
-template <int D>
-void write_constraint(Writer& w, const contact::Constraint<D>& c) {
-  w.value(static_cast<std::int32_t>(c.pair));
-  w.value(static_cast<std::int32_t>(c.slave));
-  w.value(static_cast<std::int32_t>(c.facet));
-  for (int m : c.master) w.value(static_cast<std::int32_t>(m));
-  w.doubles(c.xi.data(), c.xi.size());
-  w.doubles(c.normal.data(), c.normal.size());
-  w.doubles(c.tangents.data(), c.tangents.size());
-  w.value(static_cast<std::int32_t>(c.kind));
-  w.value(c.gap);
-  w.value(static_cast<std::int64_t>(c.activated_step));
-  w.value(c.normal_force);
-  w.value(c.start_force);
-  w.value(static_cast<std::int32_t>(c.hold));
-}
-
-template <int D>
-contact::Constraint<D> read_constraint(Reader& r, int num_nodes) {
-  contact::Constraint<D> c;
-  c.pair = r.template value<std::int32_t>();
-  c.slave = r.template value<std::int32_t>();
-  c.facet = r.template value<std::int32_t>();
-  for (int& m : c.master) m = r.template value<std::int32_t>();
-  r.doubles(c.xi.data(), c.xi.size(), "a constraint's ξ");
-  r.doubles(c.normal.data(), c.normal.size(), "a constraint's normal");
-  r.doubles(c.tangents.data(), c.tangents.size(), "a constraint's tangents");
-  const auto kind = r.template value<std::int32_t>();
-  c.gap = r.template value<double>();
-  c.activated_step = r.template value<std::int64_t>();
-  c.normal_force = r.template value<double>();
-  c.start_force = r.template value<double>();
-  const auto hold = r.template value<std::int32_t>();
-  bool nodes_ok = c.slave >= 0 && c.slave < num_nodes;
-  for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
-  if (!nodes_ok || (kind != 0 && kind != 1) || (hold != 0 && hold != 1))
-    r.fail("a contact constraint is malformed (a node out of range, or an unknown kind or flag)");
-  c.kind = static_cast<contact::Kind>(kind);
-  c.hold = hold == 1;
-  return c;
-}
+using Writer = ByteWriter;
+using Reader = ByteReader;
 
 void write_totals(Writer& w, const RunTotals& t) {
   w.value(t.energy_drift);
@@ -255,8 +155,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(c.control.last_dt);
   w.value(c.control.previous_dt);
   write_totals(w, c.totals);
-  w.value(static_cast<std::uint64_t>(c.constraints.size()));
-  for (const auto& constraint : c.constraints) write_constraint<D>(w, constraint);
+  w.text(c.contact);
 
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
@@ -275,7 +174,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
 template <int D>
 Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerprint& expected,
                               const model::Model<D>& model) {
-  Reader r(slurp(file), file);
+  Reader r(slurp(file), file.string());
   std::string magic(r.value<std::size_t>() == kMagic.size() ? kMagic.size() : 0, ' ');
   for (char& ch : magic) ch = r.value<char>();
   if (magic != kMagic) r.fail("not a conserve checkpoint");
@@ -301,10 +200,9 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.control.last_dt = r.value<double>();
   c.control.previous_dt = r.value<double>();
   c.totals = read_totals(r);
-  const auto count = r.value<std::uint64_t>();
-  if (count > static_cast<std::uint64_t>(model.num_nodes())) r.fail("more constraints than nodes");
-  for (std::uint64_t i = 0; i < count; ++i) c.constraints.push_back(read_constraint<D>(r, model.num_nodes()));
-  if (!r.at_end()) r.fail("trailing bytes after the constraints");
+  // The contact method's state: at most a few hundred bytes a node.
+  c.contact = r.text(static_cast<std::size_t>(model.num_nodes()) * 1024 + 1024, true);
+  if (!r.at_end()) r.fail("trailing bytes after the contact state");
   if (c.state.step < 0 || c.control.cutbacks < 0 || !(c.control.dt > 0.0) || !(c.control.last_dt >= 0.0) ||
       !(c.control.previous_dt >= 0.0))
     r.fail("bad step or step size");

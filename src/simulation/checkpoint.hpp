@@ -8,8 +8,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "contact/active_set.hpp"
-#include "contact/constraint.hpp"
+#include <string>
 #include "io/scenario.hpp"
 #include "model/model.hpp"
 #include "model/state.hpp"
@@ -48,7 +47,7 @@ struct Checkpoint {
   model::State state;
   StepControl control;
   RunTotals totals;
-  std::vector<contact::Constraint<D>> constraints;
+  std::string contact;  ///< the contact method's state (contact::Method::save; load() checks it)
 };
 
 /// "DIR/checkpoints/ckpt_NNNNNN.bin" (six digits or more).

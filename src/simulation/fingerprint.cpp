@@ -118,6 +118,11 @@ void add_contact(Builder& f, std::size_t i, const io::ContactSpec& c) {
             fmt::format("slave {}:{}, master {}:{}", c.slave_body, c.slave_group, c.master_body, c.master_group));
   f.setting(name + "kind", c.kind == io::ContactKind::stick ? "stick" : "frictionless");
   f.setting(name + "depth_factor", fmt::format("{}", c.depth_factor));
+  f.setting(name + "method", c.method);
+  if (c.method == "penalty") {
+    f.setting(name + "penalty", fmt::format("{}", c.penalty));
+    f.setting(name + "penalty_force", c.penalty_force == io::PenaltyForce::midpoint ? "midpoint" : "conserving");
+  }
 }
 
 const FingerprintEntry* find(const Fingerprint& f, const std::string& name) {

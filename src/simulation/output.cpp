@@ -54,7 +54,7 @@ std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) 
 
 template <int D>
 OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory,
-                              int vtu_every, const contact::ActiveSet<D>* contacts, bool contact_state,
+                              int vtu_every, contact::Method<D>* contacts, bool contact_state,
                               std::optional<double> resume_time)
     : assembler_(assembler),
       contacts_(contacts),
@@ -141,13 +141,11 @@ io::VtuField OutputWriter<D>::contact_field(int num_nodes) const {
   // holding two constraints shows the magnitude of f₁n₁ + f₂n₂, signed as
   // their sum.
   io::VtuField f{"contact_normal_force", 1, std::vector<double>(num_nodes, std::nan(""))};
-  const auto& constraints = contacts_->constraints();
-  const auto& forces = contacts_->normal_forces();
   std::map<int, std::pair<Vec<D>, double>> total;  // per slave: Σ f n, Σ f
-  for (std::size_t i = 0; i < constraints.size(); ++i) {
-    auto& [vector, sum] = total.try_emplace(constraints[i].slave, Vec<D>::Zero(), 0.0).first->second;
-    vector += forces[i] * constraints[i].normal;
-    sum += forces[i];
+  for (const auto& c : contacts_->contact_forces()) {
+    auto& [vector, sum] = total.try_emplace(c.slave, Vec<D>::Zero(), 0.0).first->second;
+    vector += c.normal * c.direction;
+    sum += c.normal;
   }
   for (const auto& [slave, t] : total) f.values[slave] = std::copysign(t.first.norm(), t.second);
   return f;

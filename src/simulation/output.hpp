@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "assembly/assembler.hpp"
-#include "contact/active_set.hpp"
+#include "contact/method.hpp"
 #include "io/history_writer.hpp"
 #include "io/vtu_writer.hpp"
 #include "simulation/drift.hpp"
@@ -30,7 +30,7 @@ class OutputWriter {
   /// `resume_time`: a restart at that time [s] keeps solution.pvd's
   /// earlier entries.
   OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory, int vtu_every,
-               const contact::ActiveSet<D>* contacts = nullptr, bool contact_state = false,
+               contact::Method<D>* contacts = nullptr, bool contact_state = false,
                std::optional<double> resume_time = std::nullopt);
 
   /// Appends the history row of `state` (figures: what the step that
@@ -52,7 +52,7 @@ class OutputWriter {
   /// written as cells after the model's, and the body of each.
   Eigen::MatrixXi surface_facets_;
   std::vector<int> surface_body_;
-  const contact::ActiveSet<D>* contacts_;
+  contact::Method<D>* contacts_;
   bool contact_state_;
   std::filesystem::path directory_;
   int vtu_every_;

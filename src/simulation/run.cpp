@@ -37,13 +37,15 @@ std::int64_t step_count(const io::TimeSpec& t) {
 /// step there; within 1e-6 Δt counts as reached).
 bool finished(const io::TimeSpec& t, const model::State& state) { return state.time >= t.end - 1e-6 * t.step; }
 
-/// What step `record` (ending in diagnostics `d`, the active set
-/// `contacts`) gives the statistics.
+/// What step `record` (ending in diagnostics `d`, the contact method
+/// `contact`, may be null) gives the statistics.
 template <int D>
-StepFigures figures_of(const StepRecord& record, const time::Diagnostics& d, const contact::ActiveSet<D>& contacts) {
+StepFigures figures_of(const StepRecord& record, const time::Diagnostics& d, const contact::Method<D>* contact) {
   double force = 0.0;
-  for (double f : contacts.normal_forces()) force += f;
-  return {record, d, static_cast<int>(contacts.normal_forces().size()), force};
+  int count = 0;
+  if (contact)
+    for (const auto& f : contact->contact_forces()) force += f.normal, ++count;
+  return {record, d, count, force};
 }
 
 template <int D>
@@ -52,9 +54,9 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   Stepper<D> stepper(sc);
   const Problem<D>& problem = stepper.problem();
   if (options.warn)
-    for (const std::string& w : plausibility_warnings<D>(sc, problem.model, stepper.contacts().pairs())) options.warn(w);
+    for (const std::string& w : plausibility_warnings<D>(sc, problem.model, stepper.pairs())) options.warn(w);
   const assembly::Assembler<D>& assembler = stepper.assembler();
-  contact::ActiveSet<D>& contacts = stepper.contacts();
+  contact::Method<D>* contact = stepper.contact();
   time::Integrator<D>& integrator = stepper.integrator();
   StepControl& control = stepper.control();
   RunSummary summary;
@@ -70,14 +72,14 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     state = std::move(c.state);
     control = c.control;
     totals = c.totals;
-    contacts.set_constraints(std::move(c.constraints));
+    if (contact) contact->load(c.contact, options.restart->string());
     io::resume_history(dir / "history.csv", state.step);
     io::resume_history(dir / "steps.csv", state.step);
   }
   const RunOrigin origin = run_origin(sc, started);  // reads the mesh files: before anything is written
   summary.earlier_files_removed =
       clear_earlier_run(dir, options.restart ? std::optional<std::int64_t>(state.step) : std::nullopt);
-  OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contacts.empty() ? nullptr : &contacts,
+  OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contact,
                          sc.output.contact_state, options.restart ? std::optional<double>(state.time) : std::nullopt);
   io::write_atomically(dir / "scenario.toml", sc.text);
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
@@ -85,14 +87,14 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
     const StepRecord none;
-    const StepFigures figures = figures_of<D>(none, d0, contacts);
+    const StepFigures figures = figures_of<D>(none, d0, contact);
     output.write(state, figures, drift.add(d0, totals), finished(sc.time, state) || max_steps == 0);
     totals.statistics.add(figures, false);
     steps_csv.write_row({0.0, state.time, 0.0, 0.0});
   }
-  auto save = [&](const model::State& s, std::vector<contact::Constraint<D>> constraints) {
+  auto save = [&](const model::State& s) {
     const auto file = checkpoint_path(dir, s.step);
-    write_checkpoint<D>(file, {fingerprint, s, control, totals, std::move(constraints)});
+    write_checkpoint<D>(file, {fingerprint, s, control, totals, contact ? contact->save() : std::string()});
     return file;
   };
   ProgressLine progress(options.progress, sc.output.progress_every);
@@ -109,7 +111,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     } catch (const FloorReached& f) {
       progress.finish();
       output.write_snapshot(state);
-      const auto file = save(state, contacts.constraints());
+      const auto file = save(state);
       throw SolverError(fmt::format(
           "step {} failed even with Δt = {:.6g} s ([time].min_step = {:.6g} s): {}; the last converged state "
           "(step {}, t = {:.9g} s) is in {} and {} (continue with --restart)",
@@ -123,9 +125,11 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
       cutback_log << line << std::flush;
       if (options.progress) fmt::print(options.progress, "\ncutback at {}", line);
     }
-    const time::Diagnostics d = time::diagnostics<D>(assembler, state);
+    time::Diagnostics d = time::diagnostics<D>(assembler, state);
+    d.contact = record.contact.contact_energy;  // the springs' stored energy counts in the total
+    d.total += d.contact;
     const Drifts drifts = drift.add(d, totals);
-    const StepFigures figures = figures_of<D>(record, d, contacts);
+    const StepFigures figures = figures_of<D>(record, d, contact);
     const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
     {
       solver::ScopedTimer timer(summary.output_seconds);
@@ -136,7 +140,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     if (sc.output.checkpoint_every > 0 && state.step % sc.output.checkpoint_every == 0) {
       solver::ScopedTimer timer(summary.output_seconds);
       integrator.drop_factorization();  // a restart starts without one
-      save(state, contacts.constraints());
+      save(state);
       prune_checkpoints(dir, state.step, sc.output.checkpoint_keep);
     }
     // This invocation ends at the end time or after max_steps, whichever
@@ -168,6 +172,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.wall_seconds = progress.elapsed();
   summary.timings = integrator.timings();
   summary.linear_solver = integrator.linear_solver().name();
+  if (contact) {
+    summary.contact_method = std::string(contact->name());
+    summary.contact_settings = contact->settings();
+  }
   io::write_atomically(dir / "summary.json", summary_json(summary, problem.model.num_dofs(), origin));
   return summary;
 }

@@ -66,6 +66,10 @@ const std::vector<Statistic>& statistics() {
       {"push_work", [](F f) { return contact_of(f).push_work; }, {{"push_work", Over::sum}}},
       {"pushes_given_up", [](F f) { return double(contact_of(f).pushes_given_up); }, {{"pushes_given_up", Over::sum, true}}},
       {"min_det_F", [](F f) { return f.diagnostics.min_det_F; }, {{"min_det_F", Over::min}}},
+      {"contact_energy", [](F f) { return f.diagnostics.contact; }, {{"max_contact_energy", Over::max}}},
+      {"contact_released", [](F f) { return contact_of(f).contact_released; }, {{"contact_released", Over::sum}}},
+      {"equations", [](F f) { return double(contact_of(f).equations); },
+       {{"mean_equations", Over::mean}, {"max_equations", Over::max, true}}},
   };
   return all;
 }

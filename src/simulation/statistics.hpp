@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "contact/active_set.hpp"
+#include "contact/method.hpp"
 #include "solver/newton.hpp"
 #include "time/diagnostics.hpp"
 

@@ -27,6 +27,16 @@ solver::LinearSolverSettings linear_settings(const io::SolverSpec& s) {
 
 namespace {
 
+contact::MethodSettings method_settings(const io::Scenario& sc) {
+  contact::MethodSettings m;
+  if (!sc.contacts.empty()) m.name = sc.contacts.front().method;
+  for (const io::ContactSpec& c : sc.contacts) m.penalty.push_back(c.penalty);
+  m.conserving = sc.contacts.empty() || sc.contacts.front().penalty_force != io::PenaltyForce::midpoint;
+  m.gap_tolerance = sc.active_set.locate_impacts ? sc.active_set.gap_tolerance : 0.0;
+  m.persistent = sc.active_set.scheme == io::ContactScheme::persistent;
+  return m;
+}
+
 fem::StressScheme stress_scheme(io::StressScheme s) {
   return s == io::StressScheme::midpoint ? fem::StressScheme::midpoint : fem::StressScheme::conserving;
 }
@@ -38,23 +48,27 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
     : scenario_(scenario),
       problem_(setup<D>(scenario)),
       assembler_(std::make_unique<assembly::Assembler<D>>(problem_.model, scenario.time.mass == io::MassKind::lumped)),
-      contacts_(std::make_unique<contact::ActiveSet<D>>(problem_.model, make_contact_pairs<D>(scenario, problem_.model))),
+      pairs_(make_contact_pairs<D>(scenario, problem_.model)),
+      contact_(pairs_.empty() ? nullptr
+                              : contact::make_method<D>(method_settings(scenario), problem_.model, assembler_->mass(),
+                                                        pairs_)),
       integrator_(std::make_unique<time::Integrator<D>>(*assembler_, stress_scheme(scenario.time.scheme),
                                                          newton_settings(scenario.newton, scenario.solver),
-                                                         contacts_.get(), scenario.active_set.max_passes,
+                                                         contact_.get(), scenario.active_set.max_passes,
                                                          linear_settings(scenario.solver))),
       control_{.dt = scenario.time.step},
       threads_(scenario.solver.threads, problem_.model.num_cells()) {
-  integrator_->set_persistent_contact(scenario.active_set.scheme == io::ContactScheme::persistent);
   integrator_->set_predictor(scenario.newton.predictor == io::PredictorKind::rigid ? time::Predictor::rigid
                                                                                    : time::Predictor::velocity);
-  contacts_->locate_impacts(scenario.active_set.locate_impacts ? scenario.active_set.gap_tolerance : 0.0);
 }
 
 template <int D>
 StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failures) {
   threads_.update();
-  const std::vector<contact::Constraint<D>> saved = contacts_->constraints();
+  const std::string saved = contact_ ? contact_->save() : std::string();
+  const auto restore = [&] {
+    if (contact_) contact_->load(saved, "the step's start");
+  };
   failures = 0;
   // After a step cut short at an impact the steps go on at the full Δt
   // from there (off the scenario's grid, as after a cutback): the step
@@ -62,22 +76,22 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
   // whatever is left of the step that was cut. The last step ends at the
   // end time.
   double dt = control_.dt;
-  if (scenario_.active_set.locate_releases)  // shorter ahead of a lift-off, not below the floor
+  if (contact_ && scenario_.active_set.locate_releases)  // shorter ahead of a lift-off, not below the floor
     dt = std::max(
-        std::min(dt, contacts_->release_step(state.step, scenario_.time.step, control_.last_dt, control_.previous_dt)),
+        std::min(dt, contact_->next_step(state.step, scenario_.time.step, control_.last_dt, control_.previous_dt)),
         std::min(dt, scenario_.time.min_step));
   const double left = scenario_.time.end - state.time;
   if (left < dt * (1.0 - 1e-9)) dt = left;
   int splits = 0, split_passes = 0;
   bool locate = true;
   for (;;) {
-    contacts_->allow_splits(locate && splits < kMaxSplits);
+    if (contact_) contact_->allow_splits(locate && splits < kMaxSplits);
     try {
       dt_used = dt;
       const solver::NewtonReport report = integrator_->step(state, dt);
       contact::StepContactStats stats = integrator_->contact_stats();
       if (stats.split_fraction < 1.0) {  // an impact within the step: end the step there
-        contacts_->set_constraints(saved);
+        restore();
         ++splits;
         split_passes += stats.passes;
         const double shorter = dt * stats.split_fraction;
@@ -100,7 +114,7 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       return record;
     } catch (const SolverError& e) {
       last_failure_ = e.what();
-      contacts_->set_constraints(saved);
+      restore();
       integrator_->drop_factorization();
       if (0.5 * dt < scenario_.time.min_step) throw FloorReached(e.what(), dt);
       control_.dt = 0.5 * dt;

@@ -7,7 +7,8 @@
 #include <string>
 
 #include "assembly/threads.hpp"
-#include "contact/active_set.hpp"
+#include "contact/elimination/method.hpp"
+#include "contact/method.hpp"
 #include "core/error.hpp"
 #include "io/scenario.hpp"
 #include "simulation/checkpoint.hpp"
@@ -46,7 +47,15 @@ class Stepper {
   [[nodiscard]] const io::Scenario& scenario() const { return scenario_; }
   [[nodiscard]] const Problem<D>& problem() const { return problem_; }
   [[nodiscard]] const assembly::Assembler<D>& assembler() const { return *assembler_; }
-  [[nodiscard]] contact::ActiveSet<D>& contacts() { return *contacts_; }
+  /// The contact method; null without contact pairs.
+  [[nodiscard]] contact::Method<D>* contact() { return contact_.get(); }
+  /// The contact pairs (none without contact).
+  [[nodiscard]] const std::vector<contact::ContactPair<D>>& pairs() const { return pairs_; }
+  /// The elimination's active set when the method is elimination, else null.
+  [[nodiscard]] contact::ActiveSet<D>* active_set() {
+    auto* e = dynamic_cast<contact::EliminationMethod<D>*>(contact_.get());
+    return e ? &e->active_set() : nullptr;
+  }
   [[nodiscard]] time::Integrator<D>& integrator() { return *integrator_; }
   /// Δt to try next and the cutback counters (saved in checkpoints).
   [[nodiscard]] StepControl& control() { return control_; }
@@ -71,7 +80,8 @@ class Stepper {
   const io::Scenario& scenario_;
   Problem<D> problem_;
   std::unique_ptr<assembly::Assembler<D>> assembler_;
-  std::unique_ptr<contact::ActiveSet<D>> contacts_;
+  std::vector<contact::ContactPair<D>> pairs_;  ///< as built (the method holds its own)
+  std::unique_ptr<contact::Method<D>> contact_;
   std::unique_ptr<time::Integrator<D>> integrator_;
   StepControl control_;
   assembly::ThreadGovernor threads_;

@@ -26,6 +26,8 @@ Json input(const InputFile& f, bool with_body) {
 /// The figures summary.json has always had (bench/make_table.py reads them).
 Json figures(const RunSummary& s, int unknowns) {
   const auto& t = s.timings;
+  Json settings = Json::object();
+  for (const auto& [name, value] : s.contact_settings) settings[name] = value;
   return Json{{"steps", s.steps},
               {"unknowns", unknowns},
               {"wall_seconds", s.wall_seconds},
@@ -40,6 +42,8 @@ Json figures(const RunSummary& s, int unknowns) {
                 {"contact_search", t.contact_search},
                 {"output", s.output_seconds}}},
               {"linear_solver", s.linear_solver},
+              {"contact_method", s.contact_method},
+              {"contact_settings", settings},
               {"linear_setups", t.linear_setups},
               {"linear_solves", t.linear_solves},
               {"linear_iterations", t.linear_iterations},

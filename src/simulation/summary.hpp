@@ -34,6 +34,10 @@ struct RunSummary {
   int earlier_files_removed = 0;  ///< files of an earlier run removed from it (simulation/output_folder.hpp)
   solver::Timings timings;      ///< where the wall time went
   std::string linear_solver;    ///< the back end's name, e.g. "GMRES + ILU(0)"
+  /// The contact method's name ("" without contact) and its settings as
+  /// the run used them (contact::Method::settings).
+  std::string contact_method;
+  std::vector<std::pair<std::string, double>> contact_settings;
   double output_seconds = 0.0;  ///< writing history and VTU files
   std::int64_t cutbacks = 0;    ///< failed step attempts retried with Δt halved
   /// The assembly's threads: why (assembly::ThreadGovernor::policy), and

@@ -11,7 +11,8 @@ struct Diagnostics {
   double kinetic = 0.0;         ///< K = ½ V·MV [J]
   double strain = 0.0;          ///< W = Σ ∫ ρ0Ψ [J]
   double potential = 0.0;       ///< Π_ext = −f_ext·u [J]
-  double total = 0.0;           ///< E = K + W + Π_ext [J]
+  double contact = 0.0;         ///< stored by the contact method (a penalty's springs) [J]; set by the caller
+  double total = 0.0;           ///< E = K + W + Π_ext (+ contact, once the caller sets it) [J]
   Vec3 linear = Vec3::Zero();   ///< L = Σ_A (MV)_A [kg m/s] (z = 0 in 2D)
   Vec3 angular = Vec3::Zero();  ///< J = Σ_A x_A × (MV)_A about the origin [kg m²/s] (2D: z only)
   std::vector<Vec3> body_linear;  ///< L of each body [kg m/s]

@@ -18,27 +18,18 @@ void apply_prescribed(const model::Prescribed& p, double t, Eigen::VectorXd& u, 
 
 template <int D>
 Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme,
-                          solver::NewtonSettings newton, contact::ActiveSet<D>* contacts, int max_passes,
+                          solver::NewtonSettings newton, contact::Method<D>* contact, int max_passes,
                           const solver::LinearSolverSettings& linear)
     : assembler_(assembler),
       newton_(newton),
       mask_(assembler.mass(), assembler.model().prescribed.dofs),
       K_(assembler.pattern().make_matrix()),
       terms_(elastodynamic_terms(assembler, scheme)),
-      contacts_(contacts && !contacts->empty() ? contacts : nullptr),
+      contact_(contact && !contact->collisions().empty() ? contact : nullptr),
       max_passes_(max_passes),
       solver_(solver::make_linear_solver(linear, assembler.model().num_dofs())) {
   solver_->set_timings(&timings_);
   solver_->set_coordinates(assembler.model().X);
-  if (contacts_) restorer_.emplace(assembler.model(), assembler.mass());
-}
-
-template <int D>
-void Integrator<D>::set_persistent_contact(bool on) {
-  if (on)
-    persistent_.emplace(assembler_.model(), assembler_.mass());
-  else
-    persistent_.reset();
 }
 
 template <int D>
@@ -69,35 +60,32 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   apply_prescribed(assembler_.model().prescribed, t_np1, u_np1);
   stats_ = {};
   for (const auto& term : terms_) term->begin(state, dt);
-  if (contacts_) contacts_->begin_step(state.step + 1, dt, state.v);
+  if (contact_) contact_->begin_step(state.step + 1, dt, state);
   solver::NewtonReport total;
-  double push_work = 0.0;  // the work of pushed-out slaves' forces in the step [J]
-  Eigen::VectorXd v_np1;   // set with the push-outs' work taken back, if any
+  Eigen::VectorXd v_np1;  // set by the method if it changes the step's velocity
   for (bool again = true; again;) {
-    // The elimination works on the active set's constraints: the updates
-    // of the solve move their facets, ξ, n and τ there.
-    std::optional<contact::Elimination<D>> elimination;
-    if (contacts_) {
+    std::unique_ptr<contact::Coupling> coupling;
+    if (contact_) {
       solver::ScopedTimer timer(timings_.elimination);
-      elimination.emplace(contacts_->elimination(state.u, u_np1, reduction_));
-      if (!elimination->empty()) elimination->enforce(u_np1);
+      coupling = contact_->coupling(state.u, u_np1);
+      coupling->start(u_np1);
     }
-    const bool plain = !elimination || elimination->empty();
-    StepProblem<D> problem(assembler_, mask_, terms_, state, dt, u_np1, K_, elimination ? &*elimination : nullptr);
+    const bool plain = !coupling || coupling->plain();
+    StepProblem<D> problem(assembler_, mask_, terms_, state, dt, u_np1, K_, coupling.get());
     problem.set_timings(&timings_);
     // A solve that will end in a split need not converge: abandoned once
     // its iterate shows the impact (the fraction then comes from it).
     double early_split = 1.0;
-    if (contacts_)
+    if (contact_)
       problem.check_iterate(
           [&](const Eigen::VectorXd& u) {
             solver::ScopedTimer timer(timings_.contact_search);
-            early_split = contacts_->split_fraction(state.u, u);
+            early_split = contact_->split_fraction(state.u, u);
             return early_split < 1.0;
           },
           retry ? kSearchRetry : kSearchFirst);
-    // A factorization of the plain system stays usable while no constraint
-    // is active; a reduced system's T changes from pass to pass.
+    // A factorization of the plain system stays usable while no contact
+    // couples it; a reduced system's T changes from pass to pass.
     const int setups = timings_.linear_setups;
     const solver::NewtonReport report =
         solver::solve_newton(problem, *solver_, newton_, plain && plain_factorization_, &nonlinearity_);
@@ -117,38 +105,19 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     total.residual_norms = report.residual_norms;
     total.tolerance = report.tolerance;
     total.floor = report.floor;
-    contact::SetChange change = contact::SetChange::none;
-    if (contacts_) {
+    stats_.equations = problem.equations();
+    contact::Verdict verdict = contact::Verdict::accept;
+    if (contact_) {
       solver::ScopedTimer timer(timings_.contact_search);
-      change = contacts_->update(state.u, u_np1, problem.full_residual(), stats_);
+      v_np1.resize(0);
+      verdict = contact_->settle(state, dt, u_np1, problem.full_residual(), v_np1, stats_);
     }
-    if (change == contact::SetChange::split) {  // not taken: the caller ends it earlier
+    if (verdict == contact::Verdict::split) {  // not taken: the caller ends it earlier
       interrupted_ = {state.step, dt, u_np1 - predicted};
       total.converged = false;
       return total;
     }
-    again = change == contact::SetChange::changed;
-    if (!again && stats_.pushes > 0) {
-      // The step's energy error E_{n+1} − E_n is Δu·g over the free dofs
-      // (the zero-work forces contribute nothing, Newton's leftover its
-      // round-off): here the push-outs' work.
-      Eigen::VectorXd g = problem.full_residual();
-      mask_.apply(g);
-      push_work = (u_np1 - state.u).dot(g);
-      solver::ScopedTimer timer(timings_.elimination);
-      const auto& X = assembler_.model().X;
-      const contact::Positions<D> x = X + u_np1.reshaped(D, X.cols());
-      v_np1 = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
-      if (!restorer_->restore_energy(x, push_work, v_np1)) {
-        // More than the bodies' deformation velocity holds, at this Δt and
-        // (the work grows as the push-out's speed squared) any shorter
-        // one: the slaves are held where they started instead.
-        contacts_->hold_pushes(state.u);  // counted in stats_.pushes_given_up by the next update
-        push_work = 0.0;
-        v_np1.resize(0);
-        again = true;
-      }
-    }
+    again = verdict == contact::Verdict::changed;
     if (again && stats_.passes >= max_passes_)
       throw SolverError(fmt::format(
           "the contact active set did not settle in step {} (t = {:.6g} s) after {} passes "
@@ -156,19 +125,12 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
           state.step + 1, t_np1, stats_.passes, stats_.activations, stats_.releases));
   }
   check_orientation(u_np1, state.step + 1, t_np1);
-  if (contacts_) {
-    solver::ScopedTimer timer(timings_.contact_search);
-    stats_.master_penetration = contacts_->master_penetration(u_np1, state.u).depth;
-  }
   if (v_np1.size() == 0) v_np1 = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
-  stats_.push_work = push_work;
-  state.v = std::move(v_np1);
-  if (persistent_ && contacts_ && !contacts_->constraints().empty()) {
-    solver::ScopedTimer timer(timings_.elimination);
-    const auto& X = assembler_.model().X;
-    const contact::Positions<D> x = X + u_np1.reshaped(D, X.cols());
-    stats_.velocity = persistent_->apply(contacts_->constraints(), contacts_->pairs(), x, state.v);
+  if (contact_) {
+    solver::ScopedTimer timer(timings_.contact_search);
+    contact_->finish_step(state.u, u_np1, v_np1, stats_);
   }
+  state.v = std::move(v_np1);
   state.u = std::move(u_np1);
   state.time = t_np1;
   ++state.step;

@@ -8,9 +8,7 @@
 
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
-#include "contact/active_set.hpp"
-#include "contact/persistent_velocity.hpp"
-#include "contact/tangent_reduction.hpp"
+#include "contact/method.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
 #include "time/predictor.hpp"
@@ -21,26 +19,26 @@ namespace conserve::time {
 template <int D>
 class Integrator {
  public:
-  /// `contacts` (may be null) holds the contact pairs and the active set;
+  /// `contact` (may be null) is the contact method (contact/method.hpp);
   /// it must outlive the integrator. `max_passes` bounds the solves of one
-  /// step while the active set changes.
+  /// step while the contact state changes.
   Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme, solver::NewtonSettings newton,
-             contact::ActiveSet<D>* contacts = nullptr, int max_passes = 10,
+             contact::Method<D>* contact = nullptr, int max_passes = 10,
              const solver::LinearSolverSettings& linear = {});
 
   /// Advances `state` by `dt` [s]: the predictor (set_predictor) with prescribed
-  /// values at t_{n+1} and the active constraints enforced, Newton on the
-  /// reduced system, the active-set update and, if the set changed, the same
-  /// step again (docs/theory.md, "The step with contact"); then
-  /// V_{n+1} = (2/Δt)Δu − V_n (19).
+  /// values at t_{n+1}, Newton on the system the contact method's coupling
+  /// forms, the method's verdict and, if its state changed, the same step
+  /// again (docs/theory.md, "The step with contact"); then
+  /// V_{n+1} = (2/Δt)Δu − V_n (19), as the method leaves it.
   /// The report's iterations count all passes. Throws SolverError naming
   /// the step if Newton does not converge (and why), if the active set does
   /// not settle in max_passes, or if a cell ends the step inverted
   /// (det F ≤ 0, naming body and cell); the state is then left unchanged.
-  /// With impacts located (ActiveSet::locate_impacts), a step that meets
-  /// an impact is not taken either: the report is not converged and
-  /// contact_stats().split_fraction < 1 tells where the step should end;
-  /// the caller restores the active set and steps again with that Δt.
+  /// A step the method splits at an impact is not taken either: the report
+  /// is not converged and contact_stats().split_fraction < 1 tells where
+  /// the step should end; the caller restores the method's state
+  /// (Method::load) and steps again with that Δt.
   /// That shorter step starts from the longer one's last iterate (its
   /// correction to the predictor, scaled by the ratio of the steps).
   solver::NewtonReport step(model::State& state, double dt);
@@ -56,14 +54,14 @@ class Integrator {
   }
 
   /// After each step, set the active slaves' relative velocity to zero
-  /// and give its energy back (contact/persistent_velocity.hpp); off: the
+  /// and give its energy back (contact/elimination/persistent_velocity.hpp); off: the
   /// mid-point velocity (19) alone, as in the paper.
   void set_persistent_contact(bool on);
 
   /// Newton's start for each step (time/predictor.hpp); `velocity` until set.
   void set_predictor(Predictor predictor);
 
-  /// What the active set did in the last step.
+  /// What contact did in the last step.
   [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
   [[nodiscard]] const solver::LinearSolver& linear_solver() const { return *solver_; }
   /// Accumulated time per phase since construction.
@@ -75,15 +73,8 @@ class Integrator {
   assembly::DirichletMask mask_;
   SparseMatrix K_;
   StepTerms<D> terms_;  ///< the step's residual is their sum
-  contact::ActiveSet<D>* contacts_;
-  /// The reduced tangent's pattern, kept across passes and steps while the
-  /// constraints' nodes do not change.
-  std::shared_ptr<contact::TangentReduction<D>> reduction_ = std::make_shared<contact::TangentReduction<D>>();
+  contact::Method<D>* contact_;
   int max_passes_;
-  std::optional<contact::PersistentVelocity<D>> persistent_;
-  /// Takes the work of pushed-out slaves' forces back (Constraint::push);
-  /// set when there are contacts.
-  std::optional<contact::PersistentVelocity<D>> restorer_;
   std::optional<RigidMotion<D>> rigid_;  ///< set: Predictor::rigid
   std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;

@@ -12,7 +12,7 @@ constexpr double kRoundOff = 32 * 2.2e-16;
 template <int D>
 StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
                             StepTerms<D>& terms, const model::State& start, double dt, Eigen::VectorXd& u_np1,
-                            SparseMatrix& K, contact::Elimination<D>* elimination)
+                            SparseMatrix& K, contact::Coupling* coupling)
     : assembler_(assembler),
       mask_(mask),
       terms_(terms),
@@ -20,14 +20,14 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
       dt_(dt),
       u_np1_(u_np1),
       K_(K),
-      elimination_(elimination) {
+      coupling_(coupling) {
   take_scales();
 }
 
 template <int D>
 StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask,
                             fem::StressScheme scheme, const model::State& start, double dt, Eigen::VectorXd& u_np1,
-                            SparseMatrix& K, contact::Elimination<D>* elimination)
+                            SparseMatrix& K, contact::Coupling* coupling)
     : own_terms_(elastodynamic_terms(assembler, scheme)),
       assembler_(assembler),
       mask_(mask),
@@ -36,7 +36,7 @@ StepProblem<D>::StepProblem(const assembly::Assembler<D>& assembler, const assem
       dt_(dt),
       u_np1_(u_np1),
       K_(K),
-      elimination_(elimination) {
+      coupling_(coupling) {
   for (const auto& term : terms_) term->begin(start, dt);
   take_scales();
 }
@@ -85,9 +85,13 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
     for (int d : mask_.dofs()) reactions += g_[d] * g_[d];
     force_scale_ = std::max(start_scale_, std::sqrt(reactions));
   }
-  if (eliminating()) {
+  const int free = static_cast<int>(g_.size() - static_cast<Eigen::Index>(mask_.dofs().size()));
+  equations_ = coupled() ? coupling_->equations(free) : free;
+  if (coupled()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
-    elimination_->reduce_residual(g_, r);  // (41), (56)
+    coupling_->residual(u_np1_, g_, magnitude_, r);
+    mask_.apply(magnitude_);
+    floor_ = kRoundOff * magnitude_.norm();
   } else {
     r = g_;
   }
@@ -104,14 +108,15 @@ const SparseMatrix& StepProblem<D>::tangent() {
   // Prescribed rows get the inertia's mean diagonal: of the order of the
   // others, whatever the stiffness.
   const double diagonal = 2.0 / (dt_ * dt_) * assembler_.mass().diagonal().mean();
-  if (!eliminating()) {
+  if (!coupled()) {
     mask_.apply(K_, diagonal);
     return K_;
   }
   solver::ScopedTimer timer(clock(&solver::Timings::elimination));
-  // K_reduced_'s pattern changes only when the constraints' nodes do
-  // (facet switches, another active set): then the mask is remade.
-  if (elimination_->reduce_tangent(K_, g_, K_reduced_))  // (43), (58)
+  // K_reduced_'s pattern changes only when the coupling's does (an
+  // elimination's constraints' nodes, a penalty's pairs): then the mask is
+  // remade.
+  if (coupling_->tangent(u_np1_, K_, g_, K_reduced_))
     reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
   reduced_mask_.apply(K_reduced_, diagonal);
   return K_reduced_;
@@ -120,10 +125,10 @@ const SparseMatrix& StepProblem<D>::tangent() {
 template <int D>
 void StepProblem<D>::update(const Eigen::VectorXd& increment) {
   u_before_ = u_np1_;
-  if (eliminating()) {
+  if (coupled()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
-    elimination_->save(elimination_before_);
-    elimination_->update(increment, u_np1_);  // (45), (60)–(64)
+    coupling_->save();
+    coupling_->update(increment, u_np1_);
   } else {
     u_np1_ += increment;
   }
@@ -131,9 +136,9 @@ void StepProblem<D>::update(const Eigen::VectorXd& increment) {
 
 template <int D>
 bool StepProblem<D>::revert() {
-  if (u_before_.size() != u_np1_.size() || (eliminating() && !elimination_before_)) return false;
+  if (u_before_.size() != u_np1_.size()) return false;
+  if (coupled() && !coupling_->restore()) return false;
   u_np1_ = u_before_;
-  if (eliminating()) elimination_->restore(*elimination_before_);
   return true;
 }
 

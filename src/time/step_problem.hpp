@@ -2,16 +2,17 @@
 /// One step of the energy–momentum conserving mid-point scheme as a Newton
 /// problem in u_{n+1} (paper (19)–(20)): the residual g(u_{n+1}) is the sum
 /// of the step's terms (time/step_terms.hpp; inertia, internal force, body
-/// force), the tangent the sum of their derivatives. With active contact
-/// constraints the unknowns are the reduced q of the direct elimination
-/// (Δu = T q, r = Wᵀ g, K_r = Wᵀ K T + V + β); without, q = Δu. Prescribed
-/// dofs carry their prescribed value; their rows are trivial.
+/// force), the tangent the sum of their derivatives. A contact method's
+/// coupling (contact/method.hpp) forms the system from them: the reduced
+/// q of the direct elimination (Δu = T q, r = Wᵀ g, K_r = Wᵀ K T + V + β),
+/// a penalty's added forces, multipliers' added unknowns; without, q = Δu.
+/// Prescribed dofs carry their prescribed value; their rows are trivial.
 #include <functional>
 #include <optional>
 
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
-#include "contact/elimination.hpp"
+#include "contact/method.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
 #include "solver/timings.hpp"
@@ -25,20 +26,20 @@ class StepProblem final : public solver::NewtonProblem {
   /// `terms` have begun the step from `start` with this Δt and must
   /// outlive the problem. `u_np1` holds the predictor on entry and the
   /// iterate throughout; `K` has the assembler's pattern and is
-  /// overwritten. `elimination` may be null (no active constraint).
+  /// overwritten. `coupling` may be null (no contact).
   StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, StepTerms<D>& terms,
               const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K,
-              contact::Elimination<D>* elimination = nullptr);
+              contact::Coupling* coupling = nullptr);
   /// With its own elastodynamic terms (time/step_terms.hpp), begun here.
   StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, fem::StressScheme scheme,
               const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K,
-              contact::Elimination<D>* elimination = nullptr);
+              contact::Coupling* coupling = nullptr);
 
   void residual(Eigen::VectorXd& r) override;
   const SparseMatrix& tangent() override;
   void update(const Eigen::VectorXd& increment) override;
-  /// Back to the iterate before the last update, with the constraints'
-  /// facets, ξ and maps as they were (they move with the update).
+  /// Back to the iterate before the last update, with the coupling's state
+  /// as it was (an elimination's facets, ξ and maps move with the update).
   bool revert() override;
   /// The largest of the inertia, load and elastic force norms at the start
   /// of the step and of the prescribed dofs' reactions at the last residual.
@@ -63,14 +64,17 @@ class StepProblem final : public solver::NewtonProblem {
     check_ = std::move(check);
     check_at_ = at;
   }
-  /// The full residual g at the last residual() call: on an active slave,
-  /// the contact force it receives (33) [N].
+  /// The full residual g at the last residual() call, contact forces a
+  /// coupling adds included: on a slave held by a constraint, the contact
+  /// force it receives (33) [N].
   [[nodiscard]] const Eigen::VectorXd& full_residual() const { return g_; }
-  /// Accumulate assembly and elimination times there (may be null).
+  /// Accumulate assembly and contact-coupling times there (may be null).
   void set_timings(solver::Timings* timings) { timings_ = timings; }
+  /// Unknowns of the system (its free ones), as of the last residual.
+  [[nodiscard]] int equations() const { return equations_; }
 
  private:
-  [[nodiscard]] bool eliminating() const { return elimination_ && !elimination_->empty(); }
+  [[nodiscard]] bool coupled() const { return coupling_ && !coupling_->plain(); }
   /// The largest of the terms' start forces and the sum of their energies.
   void take_scales();
   StepTerms<D> own_terms_;  ///< the terms, if the problem made its own
@@ -81,16 +85,16 @@ class StepProblem final : public solver::NewtonProblem {
   double dt_;
   Eigen::VectorXd& u_np1_;
   SparseMatrix& K_;
-  contact::Elimination<D>* elimination_;
-  SparseMatrix K_reduced_;
+  contact::Coupling* coupling_;
+  SparseMatrix K_reduced_;  ///< the coupled system's tangent
   assembly::DirichletMask reduced_mask_;
   Eigen::VectorXd g_, du_, magnitude_;
   Eigen::VectorXd u_before_;  ///< the iterate before the last update (revert)
-  std::optional<typename contact::Elimination<D>::Saved> elimination_before_;  ///< the elimination before it
   double start_scale_ = 0.0, force_scale_ = 0.0;
   double energy_n_ = 0.0;  ///< the terms' energies at the start: K_n + W_n + |Π_n| [J]
   double motion_ = 0.0;    ///< |Δu| over the free dofs at the last residual [m]
   double floor_ = 0.0;
+  int equations_ = 0;
   solver::Timings* timings_ = nullptr;
   std::function<bool(const Eigen::VectorXd&)> check_;
   double check_at_ = 0.0;

@@ -5,7 +5,7 @@
 ///              − f_ext                         body force (gravity)
 /// Each term gives its value and its derivative by u_{n+1}; the tangent is
 /// the sum of the derivatives. The contact constraints are not a term: the
-/// direct elimination reduces the sum (contact/elimination.hpp). A method
+/// direct elimination reduces the sum (contact/elimination/elimination.hpp). A method
 /// that adds forces (a penalty, say) is one more StepTerm; StepProblem
 /// sums whatever terms it is given.
 #include <memory>

@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <random>
 
-#include "contact/elimination.hpp"
+#include "contact/elimination/elimination.hpp"
 #include "core/error.hpp"
 
 namespace conserve::contact {

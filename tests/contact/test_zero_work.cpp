@@ -1,4 +1,4 @@
-// The zero-work force directions (contact/zero_work.hpp): no work over the
+// The zero-work force directions (contact/elimination/zero_work.hpp): no work over the
 // step, no resultant, and the slip rows of a frictionless constraint keep
 // their rank when the direction turns tangential.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <Eigen/SVD>
 #include <cstdio>
 
-#include "contact/zero_work.hpp"
+#include "contact/elimination/zero_work.hpp"
 
 namespace conserve::contact {
 namespace {

@@ -180,7 +180,7 @@ TEST(ScenarioContact, RangesAndUnknownKeys) {
   EXPECT_TRUE(fails_with(contact("a", "plane", "depth_factor = 0\n"), 25, "contact[0].depth_factor",
                          "0 is out of range (expected a finite number > 0)"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "friction = 0.3\n"), 25, "contact[0].friction",
-                         "unknown key 'friction' (expected one of: slave, master, kind, depth_factor)"));
+                         "unknown key 'friction' (expected one of: slave, master, kind, depth_factor, method, penalty, penalty_force)"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "[active_set]\nmax_passes = 0\n"), 26, "active_set.max_passes",
                          "0 is out of range (expected an integer ≥ 1)"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "[active_set]\npasses = 2\n"), 26, "active_set.passes", "unknown key"));

@@ -57,58 +57,26 @@ Checkpoint<2> at_rest() {
   return c;
 }
 
-// A constraint whose push-out was given up stays held after a restart
-// (contact::Constraint::hold), and the run's count of them carries on.
-TEST(Checkpoint, ConstraintsKeepWhetherTheyHold) {
-  const auto dir = test::scratch("checkpoint_hold");
+// The contact method's state is stored as its bytes, whatever they hold
+// (contact::Method::save; the elimination's constraints are checked in
+// tests/time/test_methods.cpp), beside the run's statistics and the step
+// lengths that located releases predict from.
+TEST(Checkpoint, KeepsTheContactStateAndWhatReleasesPredictFrom) {
+  const auto dir = test::scratch("checkpoint_contact_state");
   const model::Model<2> model = three_nodes();
   Checkpoint<2> c = at_rest();
   const std::vector<std::string> keys = RunStatistics::keys();
   c.totals.statistics.accumulated[static_cast<std::size_t>(
       std::find(keys.begin(), keys.end(), "pushes_given_up") - keys.begin())] = 3;
-  for (const bool hold : {true, false}) {
-    contact::Constraint<2> k;
-    k.pair = 0;
-    k.slave = 0;
-    k.facet = 1;
-    k.master = {1, 2};
-    k.kind = contact::Kind::frictionless;
-    k.gap = hold ? -0.01 : 0.0;
-    k.hold = hold;
-    c.constraints.push_back(k);
-  }
-  write_checkpoint<2>(checkpoint_path(dir, 0), c);
-  const Checkpoint<2> back = read_checkpoint<2>(checkpoint_path(dir, 0), c.fingerprint, model);
-  ASSERT_EQ(back.constraints.size(), 2U);
-  EXPECT_TRUE(back.constraints[0].hold);
-  EXPECT_EQ(back.constraints[0].gap, -0.01);
-  EXPECT_FALSE(back.constraints[1].hold);
-  EXPECT_EQ(back.totals.statistics.value("pushes_given_up"), 3);
-}
-
-// With releases located, the next step's length comes from each slave's
-// force at the ends of its last two steps and from those steps' lengths
-// (contact::ActiveSet::release_step): all four come back from a checkpoint.
-TEST(Checkpoint, KeepsWhatLocatedReleasesPredictFrom) {
-  const auto dir = test::scratch("checkpoint_release_rates");
-  const model::Model<2> model = three_nodes();
-  Checkpoint<2> c = at_rest();
   c.control.last_dt = 2.5e-4;
   c.control.previous_dt = 5e-4;
-  contact::Constraint<2> k;
-  k.slave = 0;
-  k.facet = 1;
-  k.master = {1, 2};
-  k.normal_force = 0.125;
-  k.start_force = 0.375;
-  c.constraints.push_back(k);
+  c.contact = std::string("\0\x01\x7f\n bytes", 9);
   write_checkpoint<2>(checkpoint_path(dir, 0), c);
   const Checkpoint<2> back = read_checkpoint<2>(checkpoint_path(dir, 0), c.fingerprint, model);
+  EXPECT_EQ(back.contact, c.contact);
   EXPECT_EQ(back.control.last_dt, 2.5e-4);
   EXPECT_EQ(back.control.previous_dt, 5e-4);
-  ASSERT_EQ(back.constraints.size(), 1U);
-  EXPECT_EQ(back.constraints[0].normal_force, 0.125);
-  EXPECT_EQ(back.constraints[0].start_force, 0.375);
+  EXPECT_EQ(back.totals.statistics.value("pushes_given_up"), 3);
 }
 
 TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
@@ -126,7 +94,7 @@ TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
     FAIL() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), (dir / "old.bin").string() +
-                                         ": bad checkpoint: format version 1, this conserve reads version 12 only "
+                                         ": bad checkpoint: format version 1, this conserve reads version 13 only "
                                          "(restart with the conserve that wrote it, or run from the start)");
   }
 }

@@ -17,7 +17,8 @@ struct ContactRun {
   std::unique_ptr<simulation::Stepper<D>> stepper;
   const simulation::Problem<D>& problem;
   const assembly::Assembler<D>* assembler;
-  contact::ActiveSet<D>* contacts;
+  contact::Method<D>* method;     ///< the contact method (null without contact)
+  contact::ActiveSet<D>* contacts;  ///< its active set when it is elimination, else null
   time::Integrator<D>* integrator;
   model::State state;
   simulation::StepRecord last;  ///< what the last step() did
@@ -27,7 +28,8 @@ struct ContactRun {
         stepper(std::make_unique<simulation::Stepper<D>>(scenario)),
         problem(stepper->problem()),
         assembler(&stepper->assembler()),
-        contacts(&stepper->contacts()),
+        method(stepper->contact()),
+        contacts(stepper->active_set()),
         integrator(&stepper->integrator()),
         state(problem.initial) {}
   ContactRun(const ContactRun&) = delete;
@@ -41,7 +43,14 @@ struct ContactRun {
     last = stepper->advance(state, dt, failures);
     return last.newton;
   }
-  [[nodiscard]] time::Diagnostics diagnostics() const { return time::diagnostics<D>(*assembler, state); }
+  /// The state's energies and momenta, the method's stored energy (the
+  /// last step's contact_energy) in the total.
+  [[nodiscard]] time::Diagnostics diagnostics() const {
+    time::Diagnostics d = time::diagnostics<D>(*assembler, state);
+    d.contact = last.contact.contact_energy;
+    d.total += d.contact;
+    return d;
+  }
   [[nodiscard]] contact::Positions<D> positions() const {
     return problem.model.X + state.u.reshaped(D, problem.model.num_nodes());
   }

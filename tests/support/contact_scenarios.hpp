@@ -518,4 +518,14 @@ inline std::string block_into_a_flank(int dim, const std::string& scheme, double
          "\"\nmaster = \"base:" + top + "\"\nkind = \"frictionless\"\n";
 }
 
+/// `toml` with its first [[contact]] given `method = "<method>"` and the
+/// extra keys `keys` ("penalty = 1e9\n"; later pairs take the first's
+/// method): the same scenario under another constraint method.
+inline std::string with_method(const std::string& toml, const std::string& method, const std::string& keys = "") {
+  const std::size_t at = toml.find("[[contact]]");
+  const std::size_t kind = toml.find("\nkind = ", at);
+  const std::size_t end = toml.find('\n', kind + 1);
+  return toml.substr(0, end + 1) + "method = \"" + method + "\"\n" + keys + toml.substr(end + 1);
+}
+
 }  // namespace conserve::test

@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "contact/elimination/method.hpp"
 #include "support/contact_run.hpp"
 #include "time/step_problem.hpp"
 
@@ -37,16 +38,17 @@ double reduced_tangent_error(ContactRun<D>& run, const std::vector<int>* nodes =
   base.save(at_base);
   const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
   SparseMatrix K = run.assembler->pattern().make_matrix();
+  contact::EliminationCoupling<D> coupling(base);
   auto residual_after = [&](const Eigen::VectorXd& q) {
     base.restore(*at_base);
     Eigen::VectorXd u_q = u, r;
-    time::StepProblem<D> p(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u_q, K, &base);
+    time::StepProblem<D> p(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u_q, K, &coupling);
     p.update(q);
     p.residual(r);
     return r;
   };
   Eigen::VectorXd u_base = u, r0;
-  time::StepProblem<D> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u_base, K, &base);
+  time::StepProblem<D> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u_base, K, &coupling);
   problem.residual(r0);
   const SparseMatrix Kr = problem.tangent();
   const std::size_t count = base.constraints().size();

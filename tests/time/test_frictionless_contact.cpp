@@ -14,7 +14,8 @@
 #include <sstream>
 #include <string>
 
-#include "contact/active_set.hpp"
+#include "contact/elimination/method.hpp"
+#include "contact/elimination/active_set.hpp"
 #include "contact_checks.hpp"
 #include "support/contact_scenarios.hpp"
 
@@ -54,7 +55,8 @@ TEST(FrictionlessContact, RevertRestoresTheIterateAndItsConstraints) {
   e.enforce(u);
   const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
   SparseMatrix K = run.assembler->pattern().make_matrix();
-  StepProblem<3> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u, K, &e);
+  contact::EliminationCoupling<3> coupling(e);
+  StepProblem<3> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u, K, &coupling);
   Eigen::VectorXd r0, r1, r2;
   problem.residual(r0);
   const Eigen::VectorXd u0 = u;
@@ -409,7 +411,7 @@ int two_constraint_slaves(const std::vector<contact::Constraint<D>>& constraints
 
 // A node on two slave surfaces (the bottom edge of a block sliding into
 // the corner of a rigid floor and an elastic wall) holds both frictionless
-// constraints (contact/elimination.hpp). FAILED before they could be held
+// constraints (contact/elimination/elimination.hpp). FAILED before they could be held
 // together (one constraint per node, measured by refusing the second):
 // the edge nodes pushed into the second master unseen, the energy drift
 // reached 0.999 in step 7 and a cell inverted in step 19. Now: 7 such

@@ -1,5 +1,5 @@
 // The persistent-contact velocity update ([active_set] scheme =
-// "persistent", contact/persistent_velocity.hpp): after each step the
+// "persistent", contact/elimination/persistent_velocity.hpp): after each step the
 // relative velocity of the active slaves is zero, E, L and J are those of
 // the mid-point step, and resting contact stops chattering. Each test
 // runs the paper's scheme as its negative control.

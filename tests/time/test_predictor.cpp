@@ -10,7 +10,7 @@
 #include <random>
 #include <string>
 
-#include "contact/persistent_velocity.hpp"
+#include "contact/elimination/persistent_velocity.hpp"
 #include "core/error.hpp"
 #include "support/contact_run.hpp"
 #include "time/predictor.hpp"

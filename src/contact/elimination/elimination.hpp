@@ -12,7 +12,7 @@
 ///     first order); the facet is the one the slave's end position projects
 ///     on, and the contact force acts on it too;
 ///   test W: the reduced residual r = Wᵀ g (41)/(56), built from the
-///     zero-work force directions of contact/zero_work.hpp (the paper's N
+///     zero-work force directions of contact/elimination/zero_work.hpp (the paper's N
 ///     and τ at the mid-point when (48) holds);
 /// and the reduced tangent K_r = Wᵀ K T + V + β, with V = (δW)ᵀ g from
 /// automatic differentiation of the zero-work kernels and β = tr(K_ss)/D
@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "contact/constraint.hpp"
-#include "contact/tangent_reduction.hpp"
+#include "contact/elimination/tangent_reduction.hpp"
 
 namespace conserve::contact {
 
@@ -84,7 +84,7 @@ class Elimination {
   void reduce_residual(const Eigen::VectorXd& g, Eigen::VectorXd& r) const;
   /// K_r = Wᵀ K T + V(g) + β on the dummy slots; g is the full residual at
   /// the same iterate. Wᵀ K T is K where T and W are the identity plus the
-  /// slave rows and columns mapped (contact/tangent_reduction.hpp); K_r's
+  /// slave rows and columns mapped (contact/elimination/tangent_reduction.hpp); K_r's
   /// pattern stays the same (explicit zeros kept) while K's pattern and
   /// the constraints' nodes do not change. Returns whether K_r was given a
   /// new pattern (K_r keeps its storage otherwise).

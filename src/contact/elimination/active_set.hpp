@@ -8,7 +8,7 @@
 /// until the step ends (its force may then be tensile for that step), so
 /// that no slave ends a converged step behind its master. A slave is
 /// activated holding the gap it had at the start of the step (≥ 0), see
-/// contact/elimination.hpp. The caller solves the step again while the set
+/// contact/elimination/elimination.hpp. The caller solves the step again while the set
 /// changes. With impacts located (locate_impacts), a slave that would
 /// start further out than its tolerance is not activated: the step is
 /// split at its crossing instead (update() returns SetChange::split).
@@ -18,60 +18,12 @@
 
 #include "contact/collision_set.hpp"
 #include "contact/constraint.hpp"
-#include "contact/elimination.hpp"
-#include "contact/persistent_velocity.hpp"
+#include "contact/elimination/elimination.hpp"
+#include "contact/method.hpp"
+#include "contact/elimination/persistent_velocity.hpp"
 #include "model/model.hpp"
 
 namespace conserve::contact {
-
-/// What happened to the active set during one step, and the contact
-/// geometry at its end.
-struct StepContactStats {
-  int passes = 0;                ///< solves of the step
-  int activations = 0;
-  int releases = 0;
-  int held = 0;                  ///< released slaves re-activated (and kept) in the step
-  /// Releases of slaves activated within the last kChatterWindow steps.
-  int chatter = 0;
-  /// Releases of slaves whose force at the end of the previous step was
-  /// above kLoadedFraction of the mean force of the active slaves then:
-  /// a node let go while it pressed.
-  int loaded_releases = 0;
-  VelocityUpdate velocity;       ///< the persistent-contact velocity update after the step
-  /// < 1: the step met an impact and was not taken; end it at this
-  /// fraction of its length instead (ActiveSet::locate_impacts).
-  double split_fraction = 1.0;
-  /// Earlier attempts of the step given up to end it at an impact, and the
-  /// solves (passes) they took (set by the stepper).
-  int splits = 0;
-  int split_passes = 0;
-  /// Frictionless constraints that held the paper's rate condition (48)
-  /// instead of their gap in the step (Constraint::rate).
-  int rate_steps = 0;
-  /// Frictionless slaves pushed out from behind their facet by the
-  /// paper's force in the step (Constraint::push), and the work of that
-  /// force [J], which the integrator takes back out of the bodies'
-  /// deformation velocity (PersistentVelocity::restore_energy).
-  int pushes = 0;
-  double push_work = 0.0;
-  /// Push-outs given up in the step because the bodies' deformation
-  /// velocity could not give their work back (counted once a slave): those
-  /// slaves are held where they started instead (Constraint::hold).
-  int pushes_given_up = 0;
-  /// Second constraints given to slaves held on one facet and found
-  /// behind a neighbouring facet of the same master surface at the end of
-  /// a solve (crease pairs, ActiveSet::crease); also counted in activations.
-  int creases = 0;
-  double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
-  /// At the end of the step: the deepest slave behind a master facet,
-  /// active or not (0 if none), the deepest master node behind a slave
-  /// facet (0 if none; one-pass contact does not stop it), and the extreme
-  /// gaps of the active slaves (NaN if none) [m].
-  double slave_penetration = 0.0;
-  double master_penetration = 0.0;
-  double min_active_gap = std::numeric_limits<double>::quiet_NaN();
-  double max_active_gap = std::numeric_limits<double>::quiet_NaN();
-};
 
 /// Two constraints of different pairs on one slave node whose facet
 /// normals are closer to parallel than this (|n₁·n₂|) are not held
@@ -258,7 +210,7 @@ class ActiveSet {
   /// normal `normal`: when it holds none, or holds one frictionless
   /// constraint of another pair whose normal is not near-parallel
   /// (|n·n′| < kParallelCosine) and p is frictionless too; then it holds
-  /// both (a node on two slave surfaces, contact/elimination.hpp).
+  /// both (a node on two slave surfaces, contact/elimination/elimination.hpp).
   [[nodiscard]] bool can_hold(int p, int s, const Vec<D>& normal) const;
   /// The constraint slave `pair.slave.nodes[i]` (node s) of pair p takes
   /// for its match at the end of a solve (positions x_np1, the step from

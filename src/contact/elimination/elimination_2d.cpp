@@ -1,4 +1,4 @@
-#include "contact/elimination_impl.hpp"
+#include "contact/elimination/elimination_impl.hpp"
 
 namespace conserve::contact {
 

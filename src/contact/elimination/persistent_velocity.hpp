@@ -29,16 +29,10 @@
 #include <vector>
 
 #include "contact/constraint.hpp"
+#include "contact/method.hpp"
 #include "model/model.hpp"
 
 namespace conserve::contact {
-
-/// What one velocity update did.
-struct VelocityUpdate {
-  bool applied = false;       ///< false: V* kept (nothing to remove, or the energy could not be given back)
-  double removed = 0.0;       ///< largest relative velocity of an active slave removed [m/s]
-  double energy_moved = 0.0;  ///< K* − K_p, the kinetic energy given back [J]
-};
 
 template <int D>
 class PersistentVelocity {

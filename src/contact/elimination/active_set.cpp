@@ -1,10 +1,10 @@
-#include "contact/active_set.hpp"
+#include "contact/elimination/active_set.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "contact/zero_work.hpp"
+#include "contact/elimination/zero_work.hpp"
 
 namespace conserve::contact {
 
@@ -388,7 +388,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
 // plane). Pushing it out to γ = 0 within the step at zero work needs other
 // non-rigid motion of the constraint's nodes as large as the push-out: a
 // push-out alone is met by a force direction ā with ā_s·n = 0 exactly
-// (contact/zero_work.hpp), a tangential force Newton cannot balance
+// (contact/elimination/zero_work.hpp), a tangential force Newton cannot balance
 // (docs/validation.md, §6.2). Otherwise the paper's force pushes it out
 // (Constraint::push), unless a push-out of it was given up (hold_pushes):
 // then, as a slave's second constraint, it is held as far behind as it

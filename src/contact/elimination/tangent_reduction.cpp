@@ -1,4 +1,4 @@
-#include "contact/tangent_reduction.hpp"
+#include "contact/elimination/tangent_reduction.hpp"
 
 #include <fmt/format.h>
 

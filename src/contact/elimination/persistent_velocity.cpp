@@ -1,4 +1,4 @@
-#include "contact/persistent_velocity.hpp"
+#include "contact/elimination/persistent_velocity.hpp"
 
 #include <Eigen/SparseCholesky>
 #include <cmath>

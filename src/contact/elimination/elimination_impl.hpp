@@ -3,7 +3,7 @@
 // halves of its automatic-differentiation code compile side by side.
 #pragma once
 
-#include "contact/elimination.hpp"
+#include "contact/elimination/elimination.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,7 @@
 
 #include <unsupported/Eigen/AutoDiff>
 
-#include "contact/zero_work.hpp"
+#include "contact/elimination/zero_work.hpp"
 #include "core/error.hpp"
 
 namespace conserve::contact {
@@ -453,7 +453,7 @@ void Elimination<D>::expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const
 // the slave's end position projects on, which is also the facet its force
 // acts on: then a·Δx, the work the zero-work correction has to absorb, is
 // of third order in the step except on the step a slave crosses an edge
-// (contact/zero_work.hpp). The facet may be switched at most kMaxSwitches
+// (contact/elimination/zero_work.hpp). The facet may be switched at most kMaxSwitches
 // times per solve, by walking to the facet the point projects on or, at a
 // concave edge, to a neighbour the slave projects inside with a gap
 // smaller by more than round-off (so that it ends behind neither facet).

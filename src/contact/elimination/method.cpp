@@ -1,0 +1,146 @@
+#include "contact/elimination/method.hpp"
+
+#include <map>
+
+#include "core/bytes.hpp"
+
+namespace conserve::contact {
+namespace {
+
+template <int D>
+void write_constraint(ByteWriter& w, const Constraint<D>& c) {
+  w.value(static_cast<std::int32_t>(c.pair));
+  w.value(static_cast<std::int32_t>(c.slave));
+  w.value(static_cast<std::int32_t>(c.facet));
+  for (int m : c.master) w.value(static_cast<std::int32_t>(m));
+  w.doubles(c.xi.data(), c.xi.size());
+  w.doubles(c.normal.data(), c.normal.size());
+  w.doubles(c.tangents.data(), c.tangents.size());
+  w.value(static_cast<std::int32_t>(c.kind));
+  w.value(c.gap);
+  w.value(static_cast<std::int64_t>(c.activated_step));
+  w.value(c.normal_force);
+  w.value(c.start_force);
+  w.value(static_cast<std::int32_t>(c.hold));
+}
+
+template <int D>
+Constraint<D> read_constraint(ByteReader& r, int num_nodes, int num_pairs) {
+  Constraint<D> c;
+  c.pair = r.template value<std::int32_t>();
+  c.slave = r.template value<std::int32_t>();
+  c.facet = r.template value<std::int32_t>();
+  for (int& m : c.master) m = r.template value<std::int32_t>();
+  r.doubles(c.xi.data(), c.xi.size(), "a constraint's ξ");
+  r.doubles(c.normal.data(), c.normal.size(), "a constraint's normal");
+  r.doubles(c.tangents.data(), c.tangents.size(), "a constraint's tangents");
+  const auto kind = r.template value<std::int32_t>();
+  c.gap = r.template value<double>();
+  c.activated_step = r.template value<std::int64_t>();
+  c.normal_force = r.template value<double>();
+  c.start_force = r.template value<double>();
+  const auto hold = r.template value<std::int32_t>();
+  bool nodes_ok = c.slave >= 0 && c.slave < num_nodes && c.pair >= 0 && c.pair < num_pairs;
+  for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
+  if (!nodes_ok || (kind != 0 && kind != 1) || (hold != 0 && hold != 1))
+    r.fail("a contact constraint is malformed (a node out of range, or an unknown kind or flag)");
+  c.kind = static_cast<Kind>(kind);
+  c.hold = hold == 1;
+  return c;
+}
+
+}  // namespace
+
+template <int D>
+EliminationMethod<D>::EliminationMethod(const model::Model<D>& model, const SparseMatrix& mass,
+                                        std::vector<ContactPair<D>> pairs, double gap_tolerance, bool persistent)
+    : model_(model), active_(model, std::move(pairs)), restorer_(model, mass) {
+  if (persistent) persistent_.emplace(model, mass);
+  active_.locate_impacts(gap_tolerance);
+}
+
+template <int D>
+void EliminationMethod<D>::begin_step(std::int64_t step, double dt, const model::State& start) {
+  active_.begin_step(step, dt, start.v);
+}
+
+template <int D>
+std::unique_ptr<Coupling> EliminationMethod<D>::coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {
+  // The elimination works on the active set's constraints: the updates of
+  // the solve move their facets, ξ, n and τ there.
+  return std::make_unique<EliminationCoupling<D>>(
+      std::make_unique<Elimination<D>>(active_.elimination(u_n, u_np1, reduction_)));
+}
+
+template <int D>
+Verdict EliminationMethod<D>::settle(const model::State& start, double dt, const Eigen::VectorXd& u_np1,
+                                     const Eigen::VectorXd& g, Eigen::VectorXd& v_np1, StepContactStats& stats) {
+  const SetChange change = active_.update(start.u, u_np1, g, stats);
+  if (change == SetChange::split) return Verdict::split;
+  if (change == SetChange::changed) return Verdict::changed;
+  stats.push_work = 0.0;
+  if (stats.pushes == 0) return Verdict::accept;
+  // The step's energy error E_{n+1} − E_n is Δu·g over the free dofs (the
+  // zero-work forces contribute nothing, Newton's leftover its round-off):
+  // here the push-outs' work.
+  Eigen::VectorXd g_free = g;
+  for (int d : model_.prescribed.dofs) g_free[d] = 0.0;
+  const double push_work = (u_np1 - start.u).dot(g_free);
+  const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
+  v_np1 = (2.0 / dt) * (u_np1 - start.u) - start.v;  // (19)
+  if (restorer_.restore_energy(x, push_work, v_np1)) {
+    stats.push_work = push_work;
+    return Verdict::accept;
+  }
+  // More than the bodies' deformation velocity holds, at this Δt and (the
+  // work grows as the push-out's speed squared) any shorter one: the
+  // slaves are held where they started instead.
+  active_.hold_pushes(start.u);  // counted in stats.pushes_given_up by the next update
+  v_np1.resize(0);
+  return Verdict::changed;
+}
+
+template <int D>
+void EliminationMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
+                                       Eigen::VectorXd& v_np1, StepContactStats& stats) {
+  stats.master_penetration = active_.master_penetration(u_np1, u_n).depth;
+  if (persistent_ && !active_.constraints().empty()) {
+    const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
+    stats.velocity = persistent_->apply(active_.constraints(), active_.pairs(), x, v_np1);
+  }
+}
+
+template <int D>
+std::string EliminationMethod<D>::save() const {
+  ByteWriter w;
+  w.value(static_cast<std::uint64_t>(active_.constraints().size()));
+  for (const auto& c : active_.constraints()) write_constraint<D>(w, c);
+  return w.bytes();
+}
+
+template <int D>
+void EliminationMethod<D>::load(const std::string& bytes, const std::string& what) {
+  ByteReader r(bytes, what);
+  const auto count = r.value<std::uint64_t>();
+  if (count > static_cast<std::uint64_t>(model_.num_nodes())) r.fail("more constraints than nodes");
+  std::vector<Constraint<D>> constraints;
+  const int pairs = static_cast<int>(active_.pairs().size());
+  for (std::uint64_t i = 0; i < count; ++i) constraints.push_back(read_constraint<D>(r, model_.num_nodes(), pairs));
+  if (!r.at_end()) r.fail("trailing bytes after the constraints");
+  active_.set_constraints(std::move(constraints));
+}
+
+template <int D>
+std::vector<ContactForce<D>> EliminationMethod<D>::contact_forces() const {
+  std::vector<ContactForce<D>> forces;
+  const auto& constraints = active_.constraints();
+  const auto& normal = active_.normal_forces();
+  for (std::size_t i = 0; i < constraints.size(); ++i)
+    forces.push_back({constraints[i].slave, normal[i], constraints[i].normal});
+  return forces;
+}
+
+template class EliminationMethod<2>;
+template class EliminationMethod<3>;
+
+}  // namespace conserve::contact

@@ -1,0 +1,197 @@
+#pragma once
+/// A constraint method: how contact takes part in the time step, whatever
+/// the method (issue 46). The integrator and the stepper see only this;
+/// each method is one folder (elimination/, penalty/) registered in
+/// methods.cpp. Per step: begin_step(), then per solve ("pass") a Coupling
+/// that forms the Newton system from the bodies' residual and tangent,
+/// settle() after the solve (accept, solve again, or split the step), and
+/// finish_step() once the step is taken. A method owns its state; one
+/// serialisation (save/load) serves both the stepper's retries and the
+/// checkpoints.
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "contact/collision_set.hpp"
+#include "core/types.hpp"
+#include "model/state.hpp"
+
+namespace conserve::contact {
+
+/// What a velocity update after the step did (persistent contact).
+struct VelocityUpdate {
+  bool applied = false;       ///< false: V* kept (nothing to remove, or the energy could not be given back)
+  double removed = 0.0;       ///< largest relative velocity of an active slave removed [m/s]
+  double energy_moved = 0.0;  ///< K* − K_p, the kinetic energy given back [J]
+};
+
+/// What contact did during one step, and its geometry at the step's end.
+/// The counters a method has no use for stay 0.
+struct StepContactStats {
+  int passes = 0;  ///< solves of the step
+  int activations = 0;
+  int releases = 0;
+  int held = 0;  ///< released slaves re-activated (and kept) in the step
+  /// Releases of slaves activated within the last kChatterWindow steps.
+  int chatter = 0;
+  /// Releases of slaves whose force at the end of the previous step was
+  /// above kLoadedFraction of the mean force of the active slaves then.
+  int loaded_releases = 0;
+  VelocityUpdate velocity;  ///< the persistent-contact velocity update after the step
+  /// < 1: the step met an impact and was not taken; end it at this
+  /// fraction of its length instead (Method::settle says split).
+  double split_fraction = 1.0;
+  /// Earlier attempts of the step given up to end it at an impact, and the
+  /// solves (passes) they took (set by the stepper).
+  int splits = 0;
+  int split_passes = 0;
+  /// Frictionless constraints that held the paper's rate condition (48).
+  int rate_steps = 0;
+  /// Slaves pushed out from behind their facet by the paper's force, and
+  /// the work of that force [J] (taken back from the deformation velocity).
+  int pushes = 0;
+  double push_work = 0.0;
+  /// Push-outs given up in the step (those slaves are held instead).
+  int pushes_given_up = 0;
+  /// Second constraints given to slaves pressed into a crease.
+  int creases = 0;
+  double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
+  /// At the end of the step: the deepest slave behind a master facet,
+  /// active or not (0 if none), the deepest master node behind a slave
+  /// facet (0 if none), and the extreme gaps of the active slaves (NaN if
+  /// none) [m].
+  double slave_penetration = 0.0;
+  double master_penetration = 0.0;
+  double min_active_gap = std::numeric_limits<double>::quiet_NaN();
+  double max_active_gap = std::numeric_limits<double>::quiet_NaN();
+  /// Energy the method stores at the step's end (a penalty's springs; 0
+  /// for constraints held exactly) [J]; part of the total energy.
+  double contact_energy = 0.0;
+  /// Energy a method let go of outside the step's balance [J]: a penalty
+  /// stick spring's at its release, and the change of a penalty slave's
+  /// potential when it moves to another facet between steps; 0 for the
+  /// others. total + Σ contact_released is conserved.
+  double contact_released = 0.0;
+  /// Unknowns of the step's last linear system (prescribed and eliminated
+  /// ones left out, multipliers counted).
+  int equations = 0;
+};
+
+/// What settle() decides after a converged solve.
+enum class Verdict {
+  accept,   ///< the solve is the step's
+  changed,  ///< the contact state changed: solve the step again
+  split,    ///< an impact within the step: end it at StepContactStats::split_fraction
+};
+
+/// One solve's contact: how the Newton system's residual, tangent and
+/// unknowns are formed from the bodies' (the step's terms, time/step_terms.hpp).
+/// Reduce/expand (elimination), added terms (penalty) and added unknowns
+/// (multipliers) are all this.
+class Coupling {
+ public:
+  virtual ~Coupling() = default;
+  /// True when the system is the bodies' own (q = Δu, r = g, tangent K):
+  /// a factorization of it may be reused.
+  [[nodiscard]] virtual bool plain() const = 0;
+  /// Unknowns of the system for `dofs` unknowns of the bodies (their free
+  /// ones): fewer by the eliminated, more by the multipliers.
+  [[nodiscard]] virtual int equations(int dofs) const = 0;
+  /// Puts the method's constraints on the predictor u before the first
+  /// residual (elimination: the slaves on their facets).
+  virtual void start(Eigen::VectorXd& u) = 0;
+  /// The system's residual r from the bodies' g at iterate u; `g` may be
+  /// changed to the full force balance at u (a penalty adds its forces), and
+  /// `magnitude` gets the magnitudes of what was added [N].
+  virtual void residual(const Eigen::VectorXd& u, Eigen::VectorXd& g, Eigen::VectorXd& magnitude,
+                        Eigen::VectorXd& r) = 0;
+  /// The system's tangent from the bodies' K and the last residual's g at
+  /// u, into A; true when A's pattern differs from the last call's.
+  virtual bool tangent(const Eigen::VectorXd& u, const SparseMatrix& K, const Eigen::VectorXd& g,
+                       SparseMatrix& A) = 0;
+  /// u (and the method's own unknowns) advanced by the system's increment.
+  virtual void update(const Eigen::VectorXd& increment, Eigen::VectorXd& u) = 0;
+  /// Keeps, then takes back, the state update() moves (a line search's revert).
+  virtual void save() = 0;
+  virtual bool restore() = 0;
+};
+
+/// One contact's normal force f_N along its master's normal n [N].
+template <int D>
+struct ContactForce {
+  int slave = -1;  ///< global node
+  double normal = 0.0;
+  Vec<D> direction = Vec<D>::Zero();
+};
+
+template <int D>
+class Method {
+ public:
+  virtual ~Method() = default;
+  [[nodiscard]] virtual std::string_view name() const = 0;
+  [[nodiscard]] virtual CollisionSet<D>& collisions() = 0;
+  [[nodiscard]] const std::vector<ContactPair<D>>& pairs() { return collisions().pairs(); }
+
+  /// Starts step `step` (its index once taken) of length dt from `start`.
+  virtual void begin_step(std::int64_t step, double dt, const model::State& start) = 0;
+  /// The coupling of one solve of the step u_n → u_np1 (the iterate).
+  [[nodiscard]] virtual std::unique_ptr<Coupling> coupling(const Eigen::VectorXd& u_n,
+                                                           const Eigen::VectorXd& u_np1) = 0;
+  /// Where the step u_n → u should end for an impact it holds (1: none):
+  /// asked of an unconverged iterate so that a doomed solve stops early.
+  [[nodiscard]] virtual double split_fraction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u) = 0;
+  /// After a converged solve u_n → u_np1 whose full force balance is `g`
+  /// (unmasked; on a slave held by a constraint, its contact force):
+  /// accept, solve again, or split. May set v_np1 (empty on entry) when it
+  /// changes the velocity the step ends with (work taken back).
+  virtual Verdict settle(const model::State& start, double dt, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
+                         Eigen::VectorXd& v_np1, StepContactStats& stats) = 0;
+  /// The step is taken, ending at u_np1 with velocities v_np1 (which the
+  /// method may change: persistent contact): end-of-step figures in stats.
+  virtual void finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, Eigen::VectorXd& v_np1,
+                           StepContactStats& stats) = 0;
+
+  /// The longest next step the method asks for after step `step` (of
+  /// length `last`, after one of `previous`; `full` the scenario's).
+  [[nodiscard]] virtual double next_step(std::int64_t step, double full, double last, double previous) const = 0;
+  /// Whether settle() may ask for a split.
+  virtual void allow_splits(bool allow) = 0;
+
+  /// The method's state as bytes, and back: a failed attempt's retry and
+  /// the checkpoints use the same. load() throws InputError naming `what`
+  /// on bytes it cannot read.
+  [[nodiscard]] virtual std::string save() const = 0;
+  virtual void load(const std::string& bytes, const std::string& what) = 0;
+
+  /// The method's settings as it uses them (a penalty's ε per pair,
+  /// automatic ones resolved), by name, for summary.json.
+  [[nodiscard]] virtual std::vector<std::pair<std::string, double>> settings() const { return {}; }
+  /// The contacts carrying force at the last step's end (or update).
+  [[nodiscard]] virtual std::vector<ContactForce<D>> contact_forces() const = 0;
+};
+
+/// How a method is chosen and tuned: the [[contact]] keys it reads.
+struct MethodSettings {
+  std::string name = "elimination";
+  /// Penalty stiffness per pair [Pa/m]; ≤ 0: automatic (penalty/penalty.hpp).
+  std::vector<double> penalty;
+  /// The penalty force: true, the discrete gradient (conserving); false,
+  /// the mid-point force (the negative control).
+  bool conserving = true;
+  /// Elimination: impacts located with this gap tolerance (0: off).
+  double gap_tolerance = 0.0;
+  bool persistent = false;
+};
+
+/// The method `settings.name` for `model` with the contact `pairs`; `mass`
+/// is the assembler's. Throws InputError on an unknown name.
+template <int D>
+std::unique_ptr<Method<D>> make_method(const MethodSettings& settings, const model::Model<D>& model,
+                                       const SparseMatrix& mass, std::vector<ContactPair<D>> pairs);
+/// The registered methods' names.
+[[nodiscard]] std::vector<std::string> method_names();
+
+}  // namespace conserve::contact

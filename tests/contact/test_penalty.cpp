@@ -1,0 +1,183 @@
+// The penalty force of one slave–facet coupling (contact/penalty/
+// penalty_force.hpp): its work over a step is the potential's change to
+// round-off (the mid-point force, the negative control, misses it), it has
+// no resultant and no moment about the mid-point, it is along the normal on a fixed
+// facet, and its derivative, taken by automatic differentiation, matches
+// finite differences.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <unsupported/Eigen/AutoDiff>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "contact/facet.hpp"
+#include "contact/penalty/penalty_force.hpp"
+
+namespace conserve::contact::penalty {
+namespace {
+
+template <int D>
+using Nodes = CouplingNodes<D, double>;
+
+/// A unit facet at the origin (normal +z or +y) and a slave above it at
+/// height `height`, off its centre; randomly perturbed by `jitter`.
+template <int D>
+Nodes<D> coupling(double height, double jitter, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Nodes<D> y = Nodes<D>::Zero();
+  if constexpr (D == 2) {
+    y.col(1) << 1.0, 0.0;  // facet from (1, 0) to (0, 0): outward normal +y
+    y.col(2) << 0.0, 0.0;
+    y.col(0) << 0.4, height;
+  } else {
+    y.col(1) << 0.0, 0.0, 0.0;
+    y.col(2) << 1.0, 0.0, 0.0;
+    y.col(3) << 0.0, 1.0, 0.0;
+    y.col(0) << 0.3, 0.25, height;
+  }
+  for (int a = 0; a <= D; ++a)
+    for (int i = 0; i < D; ++i) y(i, a) += jitter * u(rng);
+  return y;
+}
+
+template <int D>
+double work(const Nodes<D>& f, const Nodes<D>& y_n, const Nodes<D>& y_1) {
+  return f.cwiseProduct(y_1 - y_n).sum();
+}
+
+template <int D>
+Eigen::Matrix<double, 3, 1> moment(const Nodes<D>& f, const Nodes<D>& y_mid) {
+  Eigen::Matrix<double, 3, 1> m = Eigen::Matrix<double, 3, 1>::Zero();
+  for (int a = 0; a <= D; ++a) {
+    Eigen::Matrix<double, 3, 1> x = Eigen::Matrix<double, 3, 1>::Zero(), g = x;
+    x.head<D>() = y_mid.col(a);
+    g.head<D>() = f.col(a);
+    m += x.cross(g);
+  }
+  return m;
+}
+
+/// A stick anchor at ξ = (0.2[, 0.3]).
+template <int D>
+Eigen::Matrix<double, D - 1, 1> anchor_at() {
+  Eigen::Matrix<double, D - 1, 1> xi;
+  xi.setConstant(0.2);
+  if constexpr (D == 3) xi(1) = 0.3;
+  return xi;
+}
+
+template <int D>
+void check_energy_and_momenta(bool stick) {
+  std::mt19937 rng(7 + D + (stick ? 10 : 0));
+  const double k = 3.0e5;
+  const auto xi0 = anchor_at<D>();
+  const Anchor<D> anchor = stick ? &xi0 : nullptr;
+  double worst_conserving = 0.0, worst_midpoint = 0.0;
+  for (int trial = 0; trial < 40; ++trial) {
+    // Both ends behind, crossing in, crossing out; the facet moving and
+    // deforming too.
+    const double h_n = (trial % 3 == 1) ? 0.05 : -0.04, h_1 = (trial % 3 == 2) ? 0.03 : -0.07;
+    const Nodes<D> y_n = coupling<D>(h_n, 0.02, rng), y_1 = coupling<D>(h_1, 0.02, rng);
+    const double dphi = penalty_energy<D>(y_1, k, anchor) - penalty_energy<D>(y_n, k, anchor);
+    ASSERT_GT(std::abs(dphi), 1.0) << "the step changes the potential";
+    const Nodes<D> f = penalty_force<D, double>(y_n, y_1, k, true, anchor);
+    const Nodes<D> f_mid = penalty_force<D, double>(y_n, y_1, k, false, anchor);
+    const double scale = std::max(penalty_energy<D>(y_1, k, anchor), penalty_energy<D>(y_n, k, anchor));
+    worst_conserving = std::max(worst_conserving, std::abs(work<D>(f, y_n, y_1) - dphi) / scale);
+    worst_midpoint = std::max(worst_midpoint, std::abs(work<D>(f_mid, y_n, y_1) - dphi) / scale);
+    const double force = f.cwiseAbs().maxCoeff();
+    ASSERT_GT(force, 0.0);
+    EXPECT_LT(f.rowwise().sum().cwiseAbs().maxCoeff(), 1e-12 * force) << "resultant, trial " << trial;
+    EXPECT_LT(moment<D>(f, 0.5 * (y_n + y_1)).norm(), 1e-12 * force) << "moment, trial " << trial;
+  }
+  std::printf("[ measured ] %dD %s: |work − ΔΦ|/Φ at most %.1e (discrete gradient), %.1e (mid-point)\n", D,
+              stick ? "stick" : "frictionless", worst_conserving, worst_midpoint);
+  EXPECT_LT(worst_conserving, 1e-13);
+  EXPECT_GT(worst_midpoint, 1e-4);  // the negative control
+}
+
+TEST(PenaltyForce, WorkIsTheChangeOfPotentialWithMomentaKept2d) { check_energy_and_momenta<2>(false); }
+TEST(PenaltyForce, WorkIsTheChangeOfPotentialWithMomentaKept3d) { check_energy_and_momenta<3>(false); }
+TEST(PenaltyForce, StickWorkIsTheChangeOfPotentialWithMomentaKept2d) { check_energy_and_momenta<2>(true); }
+TEST(PenaltyForce, StickWorkIsTheChangeOfPotentialWithMomentaKept3d) { check_energy_and_momenta<3>(true); }
+
+// On a facet that does not move the force on the slave is along the facet's
+// normal, however far the slave slides, and the facet's nodes take the
+// reaction: frictionless.
+template <int D>
+void check_normal_on_a_fixed_facet() {
+  std::mt19937 rng(11);
+  const Nodes<D> y_n = coupling<D>(-0.01, 0.0, rng);
+  Nodes<D> y_1 = y_n;
+  y_1.col(0)(0) += 0.3;  // slides
+  y_1.col(0)(D - 1) -= 0.02;  // and sinks
+  const Nodes<D> f = penalty_force<D, double>(y_n, y_1, 1e5, true);
+  FacetNodes<D> facet = y_n.template rightCols<D>();
+  const Vec<D> n = facet_normal<D>(facet);
+  ASSERT_GT(f.col(0).norm(), 0.0);
+  EXPECT_LT((f.col(0) - f.col(0).dot(n) * n).norm(), 1e-14 * f.col(0).norm());
+  EXPECT_LT(f.col(0).dot(n), 0.0);  // ∂Φ/∂x_s points into the master: the force on the slave pushes it out
+}
+TEST(PenaltyForce, AlongTheNormalOnAFixedFacet2d) { check_normal_on_a_fixed_facet<2>(); }
+TEST(PenaltyForce, AlongTheNormalOnAFixedFacet3d) { check_normal_on_a_fixed_facet<3>(); }
+
+// Φ = ½ k g² with g the gap of the closest-point projection (facet.hpp).
+template <int D>
+void check_potential_is_half_k_g_squared() {
+  std::mt19937 rng(5);
+  const Nodes<D> y = coupling<D>(-0.03, 0.02, rng);
+  const Projection<D> p = project<D>(y.col(0), FacetNodes<D>(y.template rightCols<D>()));
+  ASSERT_LT(p.gap, 0.0);
+  EXPECT_NEAR(penalty_energy<D>(y, 2.0e5), 0.5 * 2.0e5 * p.gap * p.gap, 1e-12 * 2.0e5 * p.gap * p.gap);
+  EXPECT_EQ(penalty_energy<D>(coupling<D>(0.03, 0.0, rng), 2.0e5), 0.0);
+}
+TEST(PenaltyForce, PotentialIsHalfKGapSquared2d) { check_potential_is_half_k_g_squared<2>(); }
+TEST(PenaltyForce, PotentialIsHalfKGapSquared3d) { check_potential_is_half_k_g_squared<3>(); }
+
+// The derivative by y_{n+1} by automatic differentiation (what the tangent
+// assembles, PenaltyMethod::add_force) against central differences of the
+// force, for both forces and both kinds.
+template <int D>
+void check_tangent(bool conserving, bool stick) {
+  constexpr int N = D * (D + 1);
+  using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+  std::mt19937 rng(13);
+  const auto xi0 = anchor_at<D>();
+  const Anchor<D> anchor = stick ? &xi0 : nullptr;
+  const Nodes<D> y_n = coupling<D>(-0.02, 0.02, rng), y_1 = coupling<D>(-0.05, 0.02, rng);
+  const double k = 1e5;
+  CouplingNodes<D, Ad> y_ad;
+  for (int a = 0; a <= D; ++a)
+    for (int i = 0; i < D; ++i) y_ad(i, a) = Ad(y_1(i, a), N, a * D + i);
+  const CouplingNodes<D, Ad> f_ad = penalty_force<D, Ad>(y_n, y_ad, k, conserving, anchor);
+  Eigen::Matrix<double, N, N> K, K_fd;
+  for (int a = 0; a <= D; ++a)
+    for (int i = 0; i < D; ++i) K.row(a * D + i) = f_ad(i, a).derivatives().transpose();
+  const double h = 1e-6;
+  for (int c = 0; c < N; ++c) {
+    Nodes<D> yp = y_1, ym = y_1;
+    yp(c % D, c / D) += h;
+    ym(c % D, c / D) -= h;
+    const Nodes<D> df = (penalty_force<D, double>(y_n, yp, k, conserving, anchor) -
+                         penalty_force<D, double>(y_n, ym, k, conserving, anchor)) / (2 * h);
+    for (int a = 0; a <= D; ++a)
+      for (int i = 0; i < D; ++i) K_fd(a * D + i, c) = df(i, a);
+  }
+  ASSERT_GT(K.norm(), 1e3) << "the tangent is not zero";
+  EXPECT_LT((K - K_fd).norm(), 1e-6 * K.norm()) << (conserving ? "conserving" : "mid-point")
+                                                 << (stick ? ", stick" : ", frictionless");
+}
+TEST(PenaltyForce, TangentMatchesFiniteDifferences2d) {
+  for (bool conserving : {true, false})
+    for (bool stick : {false, true}) check_tangent<2>(conserving, stick);
+}
+TEST(PenaltyForce, TangentMatchesFiniteDifferences3d) {
+  for (bool conserving : {true, false})
+    for (bool stick : {false, true}) check_tangent<3>(conserving, stick);
+}
+
+}  // namespace
+}  // namespace conserve::contact::penalty
