@@ -6,7 +6,8 @@ with the figures in docs/figures/comparison_*.png.
 
 Usage: /usr/bin/python3 bench/comparison.py [--quick] [--binary PATH]
            [--work DIR] [--cases cube,bars,...] [--no-run]
-  --quick   a few hundred steps of each case (tests the script, minutes)
+  --quick   a few hundred steps of each case (tests the script, minutes;
+            the page and figures go to the work folder, not docs/)
   --binary  the conserve to run (default build/release/conserve, copied to
             the work folder first so that a rebuild does not change it)
   --work    where the runs go (default out/bench/comparison[_quick])
@@ -45,6 +46,7 @@ LOCATED = ["--set", "active_set.scheme=persistent", "--set", "active_set.locate_
 VARIANTS = [
     ("paper", "elimination (the paper's scheme)", []),
     ("located", "elimination, located + persistent", LOCATED),
+    ("lagrange", "Lagrange multipliers", ["--set", "contact.0.method=lagrange"]),
     ("penalty", "penalty (discrete gradient)", ["--set", "contact.0.method=penalty"]),
     ("penalty_mid", "penalty, mid-point force (control)",
      ["--set", "contact.0.method=penalty", "--set", "contact.0.penalty_force=midpoint"]),
@@ -154,8 +156,8 @@ def main():
     if not a.no_run:
         shutil.copy2(a.binary, binary)
     cases = [c for c in CASES if not a.cases or c[0] in a.cases.split(",")]
-    page = ROOT / ("docs/comparison_quick.md" if a.quick else "docs/comparison.md")
-    figures_dir = ROOT / "docs/figures"
+    page = work / "comparison.md" if a.quick else ROOT / "docs/comparison.md"
+    figures_dir = work / "figures" if a.quick else ROOT / "docs/figures"
     figures_dir.mkdir(parents=True, exist_ok=True)
     out_lines = []
     for name, title, scenario, quick_steps, facts in cases:
@@ -196,7 +198,7 @@ def main():
                 else:
                     sweep.append((factor, eps, None, log.read_text().strip().splitlines()[-1] if log.exists() else ""))
         print()
-        figure = figures_dir / f"comparison_{name}{'_quick' if a.quick else ''}.png"
+        figure = figures_dir / f"comparison_{name}.png"
         if series:
             plot(name, title, series, figure)
         # The page's section.
@@ -261,7 +263,7 @@ def main():
         out_lines.append("")
     header = (page.read_text().split("<!-- generated -->")[0] if page.exists() else "# Constraint methods side by side\n\n")
     page.write_text(header + "<!-- generated -->\n\n" + "\n".join(out_lines))
-    print(f"wrote {page.relative_to(ROOT)}")
+    print(f"wrote {page}")
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@
 
 #include "contact/collision_set.hpp"
 #include "core/types.hpp"
+#include "io/scenario.hpp"
 #include "model/state.hpp"
 
 namespace conserve::contact {
@@ -173,23 +174,12 @@ class Method {
   [[nodiscard]] virtual std::vector<ContactForce<D>> contact_forces() const = 0;
 };
 
-/// How a method is chosen and tuned: the [[contact]] keys it reads.
-struct MethodSettings {
-  std::string name = "elimination";
-  /// Penalty stiffness per pair [Pa/m]; ≤ 0: automatic (penalty/penalty.hpp).
-  std::vector<double> penalty;
-  /// The penalty force: true, the discrete gradient (conserving); false,
-  /// the mid-point force (the negative control).
-  bool conserving = true;
-  /// Elimination: impacts located with this gap tolerance (0: off).
-  double gap_tolerance = 0.0;
-  bool persistent = false;
-};
-
-/// The method `settings.name` for `model` with the contact `pairs`; `mass`
-/// is the assembler's. Throws InputError on an unknown name.
+/// The method the scenario's [[contact]] `method` names, for `model` with
+/// the contact `pairs` (built from the scenario's [[contact]] tables, in
+/// order); each method reads its own keys of the scenario. `mass` is the
+/// assembler's. Throws InputError on an unknown name.
 template <int D>
-std::unique_ptr<Method<D>> make_method(const MethodSettings& settings, const model::Model<D>& model,
+std::unique_ptr<Method<D>> make_method(const io::Scenario& scenario, const model::Model<D>& model,
                                        const SparseMatrix& mass, std::vector<ContactPair<D>> pairs);
 /// The registered methods' names.
 [[nodiscard]] std::vector<std::string> method_names();

@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "contact/elimination/method.hpp"
+#include "contact/lagrange/method.hpp"
 #include "contact/method.hpp"
 #include "contact/penalty/penalty.hpp"
 #include "core/error.hpp"
@@ -13,19 +14,31 @@ namespace conserve::contact {
 namespace {
 
 template <int D>
-using Maker = std::function<std::unique_ptr<Method<D>>(const MethodSettings&, const model::Model<D>&,
+using Maker = std::function<std::unique_ptr<Method<D>>(const io::Scenario&, const model::Model<D>&,
                                                       const SparseMatrix&, std::vector<ContactPair<D>>)>;
 
 template <int D>
 const std::vector<std::pair<std::string, Maker<D>>>& registry() {
   static const std::vector<std::pair<std::string, Maker<D>>> methods = {
       {"elimination",
-       [](const MethodSettings& s, const model::Model<D>& m, const SparseMatrix& mass, std::vector<ContactPair<D>> p) {
-         return std::make_unique<EliminationMethod<D>>(m, mass, std::move(p), s.gap_tolerance, s.persistent);
+       [](const io::Scenario& s, const model::Model<D>& m, const SparseMatrix& mass, std::vector<ContactPair<D>> p) {
+         const io::ActiveSetSpec& a = s.active_set;
+         return std::make_unique<EliminationMethod<D>>(m, mass, std::move(p),
+                                                       a.locate_impacts ? a.gap_tolerance : 0.0,
+                                                       a.scheme == io::ContactScheme::persistent);
+       }},
+      {"lagrange",
+       [](const io::Scenario& s, const model::Model<D>& m, const SparseMatrix& mass, std::vector<ContactPair<D>> p) {
+         const io::ActiveSetSpec& a = s.active_set;
+         return std::make_unique<LagrangeMethod<D>>(m, mass, std::move(p), a.locate_impacts ? a.gap_tolerance : 0.0,
+                                                    a.scheme == io::ContactScheme::persistent);
        }},
       {"penalty",
-       [](const MethodSettings& s, const model::Model<D>& m, const SparseMatrix&, std::vector<ContactPair<D>> p) {
-         return std::make_unique<PenaltyMethod<D>>(m, std::move(p), s.penalty, s.conserving);
+       [](const io::Scenario& s, const model::Model<D>& m, const SparseMatrix&, std::vector<ContactPair<D>> p) {
+         std::vector<double> penalty;
+         for (const io::ContactSpec& c : s.contacts) penalty.push_back(c.penalty);
+         return std::make_unique<PenaltyMethod<D>>(m, std::move(p), penalty,
+                                                   s.contacts.front().penalty_force == io::PenaltyForce::conserving);
        }},
   };
   return methods;
@@ -40,17 +53,17 @@ std::vector<std::string> method_names() {
 }
 
 template <int D>
-std::unique_ptr<Method<D>> make_method(const MethodSettings& settings, const model::Model<D>& model,
+std::unique_ptr<Method<D>> make_method(const io::Scenario& scenario, const model::Model<D>& model,
                                        const SparseMatrix& mass, std::vector<ContactPair<D>> pairs) {
-  for (const auto& [name, make] : registry<D>())
-    if (name == settings.name) return make(settings, model, mass, std::move(pairs));
-  throw InputError(fmt::format("unknown contact method '{}' (known: {})", settings.name,
-                               fmt::join(method_names(), ", ")));
+  const std::string name = scenario.contacts.empty() ? "elimination" : scenario.contacts.front().method;
+  for (const auto& [known, make] : registry<D>())
+    if (known == name) return make(scenario, model, mass, std::move(pairs));
+  throw InputError(fmt::format("unknown contact method '{}' (known: {})", name, fmt::join(method_names(), ", ")));
 }
 
-template std::unique_ptr<Method<2>> make_method<2>(const MethodSettings&, const model::Model<2>&, const SparseMatrix&,
+template std::unique_ptr<Method<2>> make_method<2>(const io::Scenario&, const model::Model<2>&, const SparseMatrix&,
                                                    std::vector<ContactPair<2>>);
-template std::unique_ptr<Method<3>> make_method<3>(const MethodSettings&, const model::Model<3>&, const SparseMatrix&,
+template std::unique_ptr<Method<3>> make_method<3>(const io::Scenario&, const model::Model<3>&, const SparseMatrix&,
                                                    std::vector<ContactPair<3>>);
 
 }  // namespace conserve::contact

@@ -55,11 +55,6 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   contact.method = s.string("method");
   contact.penalty = s.number("penalty");
   contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
-  if (contact.method != "penalty") {
-    if (s.has("penalty")) s.fail("penalty", "is read by method = \"penalty\" only", "no penalty key, or method = \"penalty\"");
-    if (s.has("penalty_force"))
-      s.fail("penalty_force", "is read by method = \"penalty\" only", "no penalty_force key, or method = \"penalty\"");
-  }
   return contact;
 }
 
@@ -81,6 +76,11 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
                  fmt::format("'{}' differs from contact[0]'s '{}'; one constraint method serves every pair", c.method,
                              contacts.front().method),
                  fmt::format("method = \"{}\" as in contact[0]", contacts.front().method));
+    if (c.method != "penalty")
+      for (const char* key : {"penalty", "penalty_force"})
+        if (table.has(key))
+          table.fail(key, "is read by method = \"penalty\" only",
+                     fmt::format("no {} key, or method = \"penalty\"", key));
     if (!contacts.empty() && c.penalty_force != contacts.front().penalty_force)
       table.fail("penalty_force", "differs from contact[0]'s; one force evaluation serves every pair",
                  "the same penalty_force in every [[contact]]");

@@ -369,10 +369,11 @@ SectionSpec contact_section() {
               {.name = "method",
                .type = KeyType::choice,
                .default_value = "elimination",
-               .choices = {"elimination", "penalty"},
+               .choices = {"elimination", "lagrange", "penalty"},
                .doc = "constraint method, the same for every pair (later pairs take the first pair's): "
-                      "`elimination` (the slave's unknowns eliminated, no penetration) or `penalty` (a penalty "
-                      "potential; the slave penetrates by about its pressure / `penalty`)"},
+                      "`elimination` (the slave's unknowns eliminated, no penetration), `lagrange` (the same "
+                      "constraints held by multipliers, extra unknowns) or `penalty` (a penalty potential; "
+                      "the slave penetrates by about its pressure / `penalty`)"},
               {.name = "penalty",
                .type = KeyType::number,
                .default_value = "0",

@@ -27,16 +27,6 @@ solver::LinearSolverSettings linear_settings(const io::SolverSpec& s) {
 
 namespace {
 
-contact::MethodSettings method_settings(const io::Scenario& sc) {
-  contact::MethodSettings m;
-  if (!sc.contacts.empty()) m.name = sc.contacts.front().method;
-  for (const io::ContactSpec& c : sc.contacts) m.penalty.push_back(c.penalty);
-  m.conserving = sc.contacts.empty() || sc.contacts.front().penalty_force != io::PenaltyForce::midpoint;
-  m.gap_tolerance = sc.active_set.locate_impacts ? sc.active_set.gap_tolerance : 0.0;
-  m.persistent = sc.active_set.scheme == io::ContactScheme::persistent;
-  return m;
-}
-
 fem::StressScheme stress_scheme(io::StressScheme s) {
   return s == io::StressScheme::midpoint ? fem::StressScheme::midpoint : fem::StressScheme::conserving;
 }
@@ -50,8 +40,7 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
       assembler_(std::make_unique<assembly::Assembler<D>>(problem_.model, scenario.time.mass == io::MassKind::lumped)),
       pairs_(make_contact_pairs<D>(scenario, problem_.model)),
       contact_(pairs_.empty() ? nullptr
-                              : contact::make_method<D>(method_settings(scenario), problem_.model, assembler_->mass(),
-                                                        pairs_)),
+                              : contact::make_method<D>(scenario, problem_.model, assembler_->mass(), pairs_)),
       integrator_(std::make_unique<time::Integrator<D>>(*assembler_, stress_scheme(scenario.time.scheme),
                                                          newton_settings(scenario.newton, scenario.solver),
                                                          contact_.get(), scenario.active_set.max_passes,

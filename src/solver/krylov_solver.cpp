@@ -169,6 +169,36 @@ struct KrylovSolver::Petsc {
     operators_set = false;
   }
 
+  /// A saddle-point system [[K, B], [C, 0]]: the model's `bodies`
+  /// unknowns first, then the contact multipliers. Preconditioned by
+  /// PETSc's field split with the full Schur factorisation: ILU(0) on K,
+  /// and on S ≈ −C diag(K)⁻¹ B (assembled, "selfp") ILU(0).
+  void split_fields(PetscInt bodies) {
+    const PetscInt n = static_cast<PetscInt>(outer.size()) - 1;
+    PC pc = nullptr;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    check(PCSetType(pc, PCFIELDSPLIT), "PCSetType(fieldsplit)");
+    IS first = nullptr, second = nullptr;
+    check(ISCreateStride(PETSC_COMM_SELF, bodies, 0, 1, &first), "ISCreateStride");
+    check(ISCreateStride(PETSC_COMM_SELF, n - bodies, bodies, 1, &second), "ISCreateStride");
+    check(PCFieldSplitSetIS(pc, "u", first), "PCFieldSplitSetIS");
+    check(PCFieldSplitSetIS(pc, "lambda", second), "PCFieldSplitSetIS");
+    ISDestroy(&first);
+    ISDestroy(&second);
+    check(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR), "PCFieldSplitSetType");
+    check(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_FULL), "PCFieldSplitSetSchurFactType");
+    check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_SELFP, nullptr), "PCFieldSplitSetSchurPre");
+    for (const char* field : {"u", "lambda"}) {
+      const std::string prefix = std::string("-fieldsplit_") + field + "_";
+      PetscOptionsSetValue(nullptr, (prefix + "ksp_type").c_str(), "preonly");
+      PetscOptionsSetValue(nullptr, (prefix + "pc_type").c_str(), "ilu");
+      PetscOptionsSetValue(nullptr, (prefix + "pc_factor_shift_type").c_str(), "nonzero");
+    }
+    check(PCSetFromOptions(pc), "PCSetFromOptions");
+    split = true;
+  }
+  bool split = false;  ///< a saddle-point system has been split (name())
+
   [[nodiscard]] bool same_pattern(const SparseMatrix& M) const {
     return static_cast<Eigen::Index>(outer.size()) == M.outerSize() + 1 &&
            static_cast<Eigen::Index>(inner.size()) == M.nonZeros() &&
@@ -185,7 +215,10 @@ struct KrylovSolver::Petsc {
     outer.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.outerSize() + 1);
     inner.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
     const int dim = static_cast<int>(X.rows());
-    const bool blocked = kind == Preconditioner::ilu && dim > 1 && n % dim == 0;
+    // Node blocks only for a system of the model's own unknowns: one with
+    // extra unknowns (contact multipliers) has rows that are no node's.
+    const bool nodal = dim > 0 && n == static_cast<int>(X.size());
+    const bool blocked = kind == Preconditioner::ilu && dim > 1 && nodal;
     if (A) MatDestroy(&A);
     check(MatCreate(PETSC_COMM_SELF, &A), "MatCreate");
     check(MatSetSizes(A, n, n, n, n), "MatSetSizes");
@@ -198,7 +231,7 @@ struct KrylovSolver::Petsc {
     } else {
       new_scalar_pattern(n);
       check(MatSetType(A, MATSEQAIJ), "MatSetType");
-      if (dim > 0 && n % dim == 0) check(MatSetBlockSize(A, dim), "MatSetBlockSize");
+      if (nodal) check(MatSetBlockSize(A, dim), "MatSetBlockSize");
       std::vector<PetscScalar> zeros(inner.size(), 0.0);
       check(MatSeqAIJSetPreallocationCSR(A, row_start.data(), column.data(), zeros.data()),
             "MatSeqAIJSetPreallocationCSR");
@@ -318,7 +351,8 @@ KrylovSolver::KrylovSolver(Preconditioner preconditioner, const LinearSolverSett
 KrylovSolver::~KrylovSolver() = default;
 
 std::string KrylovSolver::name() const {
-  return petsc_->kind == Preconditioner::gamg ? "GMRES + GAMG" : "GMRES + ILU(0)";
+  const std::string base = petsc_->kind == Preconditioner::gamg ? "GMRES + GAMG" : "GMRES + ILU(0)";
+  return petsc_->split ? base + ", Schur field split with multipliers" : base;
 }
 
 void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
@@ -354,6 +388,7 @@ void KrylovSolver::set_operator(const SparseMatrix& M) {
     // new GAMG hierarchy): the PC keeps them while the matrix is the same.
     p.make_ksp();
     p.new_matrix(M);
+    if (M.rows() > p.X.size() && p.X.size() > 0) p.split_fields(static_cast<PetscInt>(p.X.size()));
   }
   p.copy_values(M);
   if (!p.operators_set) {

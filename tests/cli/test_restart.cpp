@@ -93,6 +93,13 @@ TEST(Restart, StickContactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_ball", kBallOnPlane, 80, 75);
 }
 
+// The penalty's couplings (their facets, a stuck slave's anchor) and
+// stored energy come back from a checkpoint.
+TEST(Restart, PenaltyContactHistoryIsBitIdentical) {
+  expect_identical_after_restart("restart_penalty_discs", with_method(kGlancingDiscs, "penalty"), 35, 30);
+  expect_identical_after_restart("restart_penalty_ball", with_method(kBallOnPlane, "penalty"), 80, 75);
+}
+
 // With impacts located, a run restarted from the checkpoint of a step cut
 // short at an impact goes on off the grid of Δt exactly as the run that
 // wrote it.

@@ -181,3 +181,51 @@ TEST(PenaltyForce, TangentMatchesFiniteDifferences3d) {
 
 }  // namespace
 }  // namespace conserve::contact::penalty
+
+namespace conserve::contact::penalty {
+namespace {
+
+// Off a facet's face the potential is ½ k d² to the nearest edge or vertex
+// (point_potential): its gradient is the derivative (the nearest point's
+// parameter held, the envelope theorem), and through automatic
+// differentiation with a dynamic number of unknowns (the switching steps'
+// tangent) both match central differences.
+TEST(PenaltyForce, EdgeAndVertexPotentialsDifferentiate) {
+  using Ad = Eigen::AutoDiffScalar<Eigen::VectorXd>;
+  const Eigen::Vector3d s(0.3, -0.2, -0.05), a(0.0, 0.0, 0.0), b(1.0, 0.1, 0.0);
+  const double k = 2e5, h = 1e-6;
+  for (const bool edge : {true, false}) {
+    Eigen::Matrix<double, 3, 3> grad;
+    const double phi = point_potential<3, double>(s, a, edge ? &b : nullptr, k, &grad);
+    ASSERT_GT(phi, 0.0);
+    Eigen::Matrix<double, 3, 3> fd;
+    for (int node = 0; node < 3; ++node)
+      for (int i = 0; i < 3; ++i) {
+        Eigen::Matrix<double, 3, 3> p;
+        p << s, a, b;
+        Eigen::Matrix<double, 3, 3> m = p;
+        p(i, node) += h;
+        m(i, node) -= h;
+        const Eigen::Vector3d pb = p.col(2), mb = m.col(2);
+        fd(i, node) = (point_potential<3, double>(p.col(0), p.col(1), edge ? &pb : nullptr, k) -
+                       point_potential<3, double>(m.col(0), m.col(1), edge ? &mb : nullptr, k)) /
+                      (2 * h);
+      }
+    if (!edge) fd.col(2).setZero();
+    EXPECT_LT((grad - fd).norm(), 1e-6 * grad.norm()) << (edge ? "edge" : "vertex");
+    // The gradient's own derivative by automatic differentiation.
+    Eigen::Matrix<Ad, 3, 1> s_ad, a_ad, b_ad;
+    for (int i = 0; i < 3; ++i) {
+      s_ad(i) = Ad(s(i), 9, i);
+      a_ad(i) = Ad(a(i), 9, 3 + i);
+      b_ad(i) = Ad(b(i), 9, 6 + i);
+    }
+    Eigen::Matrix<Ad, 3, 3> g_ad;
+    point_potential<3, Ad>(s_ad, a_ad, edge ? &b_ad : nullptr, k, &g_ad);
+    const Eigen::Matrix<double, 3, 1> slave_row = g_ad(0, 0).derivatives().head<3>();
+    EXPECT_NEAR(slave_row(0), edge ? k * (1.0 - std::pow(b.normalized()(0), 2)) : k, 1e-6 * k);
+  }
+}
+
+}  // namespace
+}  // namespace conserve::contact::penalty

@@ -191,5 +191,33 @@ TEST(ScenarioContact, SecondPairErrorsNameIndexOne) {
   EXPECT_TRUE(fails_with(text, 27, "contact[1].master", "unknown body 'wall'"));
 }
 
+// The constraint method (issue 46): one for every pair, later pairs taking
+// the first's; the penalty's keys only with it, its stiffness ≥ 0.
+TEST(ScenarioContact, MethodKeys) {
+  const auto penalty = parse_scenario(contact("a", "plane", "method = \"penalty\"\npenalty = 2e9\n"), case_file());
+  EXPECT_EQ(penalty.contacts[0].method, "penalty");
+  EXPECT_EQ(penalty.contacts[0].penalty, 2e9);
+  EXPECT_EQ(penalty.contacts[0].penalty_force, PenaltyForce::conserving);
+  EXPECT_EQ(parse_scenario(contact("a", "plane"), case_file()).contacts[0].method, "elimination");
+  const std::string second = "[[contact]]\nslave = \"a:side\"\nmaster = \"plane\"\nkind = \"frictionless\"\n";
+  const auto inherited =
+      parse_scenario(contact("a:top", "plane", "method = \"penalty\"\npenalty_force = \"midpoint\"\n" + second),
+                     case_file());
+  EXPECT_EQ(inherited.contacts[1].method, "penalty");
+  EXPECT_EQ(inherited.contacts[1].penalty_force, PenaltyForce::midpoint);
+  // A later pair's own ε with the first pair's method (as --set gives it).
+  const auto own = parse_scenario(contact("a:top", "plane", "method = \"penalty\"\n" + second + "penalty = 3e9\n"),
+                                  case_file());
+  EXPECT_EQ(own.contacts[1].penalty, 3e9);
+  EXPECT_TRUE(fails_with(contact("a:top", "plane", second + "method = \"penalty\"\n"), 29, "contact[1].method",
+                         "'penalty' differs from contact[0]'s 'elimination'; one constraint method serves every pair"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "penalty = 1e9\n"), 25, "contact[0].penalty",
+                         "is read by method = \"penalty\" only"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "method = \"penalty\"\npenalty = -1\n"), 26, "contact[0].penalty",
+                         "-1 is out of range (expected a finite number [Pa/m] ≥ 0)"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "method = \"multipliers\"\n"), 25, "contact[0].method",
+                         "'multipliers' is not allowed (expected one of: elimination, lagrange, penalty)"));
+}
+
 }  // namespace
 }  // namespace conserve::io

@@ -197,3 +197,60 @@ TEST(PenaltyContact, MethodStateRoundTripsThroughItsBytes) {
 
 }  // namespace
 }  // namespace conserve::time
+
+namespace conserve::time {
+namespace {
+
+// The penalty's tangent (automatic differentiation, over the facets'
+// faces and across changes of the nearest part) against central
+// differences of its force, through the Coupling a solve uses, at the
+// predictor of steps of the glancing impact of two discs.
+template <int D>
+void check_penalty_tangent() {
+  ContactRun<D> run(test::with_method(test::glancing_spheres(D, "frictionless", 0.1), "penalty"));
+  const double dt = run.scenario.time.step;
+  const int n = run.problem.model.num_dofs();
+  double worst = 0.0;
+  int checked = 0;
+  for (int step = 0; step < 60; ++step) {
+    run.step();
+    if (step % 6 != 5) continue;
+    run.method->begin_step(run.state.step + 1, dt, run.state);
+    const Eigen::VectorXd u = run.state.u + dt * run.state.v;
+    const auto coupling = run.method->coupling(run.state.u, u);
+    if (coupling->plain()) continue;
+    const SparseMatrix K = run.assembler->pattern().make_matrix();  // zero: the contact part alone
+    auto force = [&](const Eigen::VectorXd& at) {
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(n), m = Eigen::VectorXd::Zero(n), r;
+      coupling->residual(at, g, m, r);
+      return r;
+    };
+    const Eigen::VectorXd g0 = force(u);
+    SparseMatrix A;
+    coupling->tangent(u, K, g0, A);
+    // Small: a wider step crosses the kinks of ⟨−g⟩ and of the nearest
+    // part's changes (1e-7 × size gave 3e-4 there, 1e-9 × size 4e-6).
+    const double h = 1e-9 * run.problem.model.size();
+    for (int col = 0; col < A.outerSize(); ++col) {
+      Eigen::VectorXd exact = Eigen::VectorXd::Zero(n);
+      for (SparseMatrix::InnerIterator it(A, col); it; ++it) exact[it.row()] = it.value();
+      if (exact.norm() == 0.0) continue;
+      Eigen::VectorXd up = u, down = u;
+      up[col] += h;
+      down[col] -= h;
+      const Eigen::VectorXd fd = (force(up) - force(down)) / (2 * h);
+      const double e = (fd - exact).norm() / exact.norm();
+      worst = std::max(worst, e);
+      ++checked;
+    }
+  }
+  std::printf("[ measured ] penalty tangent %dD: %d columns, largest relative error %.1e\n", D, checked, worst);
+  EXPECT_GT(checked, 20);
+  EXPECT_LT(worst, 1e-5);
+}
+
+TEST(PenaltyContact, TangentMatchesFiniteDifferences2d) { check_penalty_tangent<2>(); }
+TEST(PenaltyContact, TangentMatchesFiniteDifferences3d) { check_penalty_tangent<3>(); }
+
+}  // namespace
+}  // namespace conserve::time

@@ -103,6 +103,10 @@ class Elimination {
   /// Pattern builds of the reduced tangent so far (by all the eliminations
   /// sharing its reduction).
   [[nodiscard]] int pattern_builds() const { return reduction_->builds(); }
+  /// The slaves' rows of T and W, per slave node (the maps at the last
+  /// enforce()): what a method holding the same constraints by other means
+  /// (multipliers, contact/lagrange/) reads them from.
+  [[nodiscard]] SlaveRows<D> slave_rows() const { return {slave_of_, slaves_, trial_rows_, test_rows_}; }
 
   /// One constraint's coefficients over `nodes` (master nodes, global):
   /// `master` is D × D·nodes.size() (column a·D + i for node nodes[a],
@@ -169,7 +173,6 @@ class Elimination {
   /// kCreaseSine of coplanar).
   void place_pair(const Group& g, Positions<D>& x, Positions<D>& x_mid);
   [[nodiscard]] SparseMatrix assemble(const std::vector<BlockRow<D>>& rows) const;
-  [[nodiscard]] SlaveRows<D> slave_rows() const { return {slave_of_, slaves_, trial_rows_, test_rows_}; }
   void add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
   void add_pair_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
   /// K_r += Ŵ_aᵀ G T̂_b: the derivative G of constraint c's test output at

@@ -68,8 +68,7 @@ template <int D>
 std::unique_ptr<Coupling> EliminationMethod<D>::coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {
   // The elimination works on the active set's constraints: the updates of
   // the solve move their facets, ξ, n and τ there.
-  return std::make_unique<EliminationCoupling<D>>(
-      std::make_unique<Elimination<D>>(active_.elimination(u_n, u_np1, reduction_)));
+  return std::make_unique<EliminationCoupling<D>>(make_elimination(u_n, u_np1));
 }
 
 template <int D>

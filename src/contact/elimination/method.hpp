@@ -66,7 +66,7 @@ class EliminationCoupling final : public Coupling {
 };
 
 template <int D>
-class EliminationMethod final : public Method<D> {
+class EliminationMethod : public Method<D> {
  public:
   /// `gap_tolerance` > 0 locates impacts (ActiveSet::locate_impacts);
   /// `persistent` sets the active slaves' relative velocity to zero after
@@ -95,6 +95,14 @@ class EliminationMethod final : public Method<D> {
 
   /// The active set itself (tests).
   [[nodiscard]] ActiveSet<D>& active_set() { return active_; }
+
+ protected:
+  /// The elimination of the active constraints for one solve u_n → u
+  /// (ActiveSet::elimination, with the kept tangent reduction).
+  [[nodiscard]] std::unique_ptr<Elimination<D>> make_elimination(const Eigen::VectorXd& u_n,
+                                                                 const Eigen::VectorXd& u) {
+    return std::make_unique<Elimination<D>>(active_.elimination(u_n, u, reduction_));
+  }
 
  private:
   const model::Model<D>& model_;

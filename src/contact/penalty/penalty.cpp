@@ -58,6 +58,10 @@ struct AnchorOf {
   penalty::Anchor<D> ptr;
 };
 
+/// A slave whose projection lies this far (in isoparametric units) off a
+/// facet is over its face: round-off of a slave over a shared edge.
+constexpr double kOnFace = 1e-12;
+
 }  // namespace
 
 template <int D>
@@ -104,13 +108,16 @@ std::vector<PenaltyCoupling> PenaltyMethod<D>::behind_at(const Eigen::VectorXd& 
   collisions_.for_each_match(
       x,
       [&](int p, std::size_t, int s, const Match<D>& m) {
-        if (!(m.projection.gap < 0.0)) return;
         PenaltyCoupling c{p, s, m.facet, epsilon_[static_cast<std::size_t>(p)] * area_[static_cast<std::size_t>(p)].at(s)};
-        if (collisions_.pair(p).kind != Kind::stick) {  // behind the surface, on its nearest facet
+        if (collisions_.pair(p).kind != Kind::stick) {
+          // Behind the surface where the search put it (the nearest part
+          // around the facet it found, in front or behind), on that part's
+          // facet: the same test as the potential's.
           const Feature<D> f = nearest(p, s, m.facet, x);
           if (!f.behind) return;
           c.facet = f.facet;
-        } else {  // caught where it was at the step's start
+        } else {  // caught where it was at the step's start, behind its facet
+          if (!(m.projection.gap < 0.0)) return;
           c.stick = true;
           const Eigen::Matrix<double, D - 1, 1> xi = penalty::projected_xi<D>(nodes(c, x_n_));
           for (int i = 0; i + 1 < D; ++i) c.anchor[static_cast<std::size_t>(i)] = xi(i);
@@ -159,7 +166,11 @@ Feature<D> PenaltyMethod<D>::nearest(int p, int s, int f, const Positions<D>& x)
   for (int g : around(p, f)) {
     const FacetNodes<D> xg = facet_nodes<D>(master, g, x);
     const Projection<D> pr = project<D>(x_s, xg);
-    const auto [xi, distance] = closest_point_on_facet<D>(x_s, xg, pr);
+    // Over a facet's face up to round-off (a slave over the edge two
+    // facets share), the face: its potential is the plane's.
+    const bool face = pr.inside(kOnFace);
+    const auto [xi, distance] =
+        face ? std::pair<Xi<D>, double>{pr.xi, std::abs(pr.gap)} : closest_point_on_facet<D>(x_s, xg, pr);
     if (distance < best_distance) {
       best_distance = distance;
       best.facet = g;
@@ -169,13 +180,13 @@ Feature<D> PenaltyMethod<D>::nearest(int p, int s, int f, const Positions<D>& x)
   }
   const FacetNodes<D> xf = facet_nodes<D>(master, best.facet, x);
   const Vec<D> N = facet_shape<D>(best_xi);
-  best.point = xf * N;
+  best.point = best_projection.inside(kOnFace) ? best_projection.point : Vec<D>(xf * N);
   // The pseudo-normal of the nearest part (Bærentzen & Aanæs 2005): its
   // facet's normal, the sum over the facets at an edge, angle-weighted
   // over those at a vertex. x_s is behind the surface where
   // (x_s − point)·n < 0: it turns only where the distance is 0.
   std::vector<int> on;  // the feature's nodes (local to the facet)
-  if (best_projection.inside()) {
+  if (best_projection.inside(kOnFace)) {
     best.kind = penalty::FeatureKind::face;
     best.normal = best_projection.normal;
   } else {
@@ -241,6 +252,19 @@ StepPlan<D> PenaltyMethod<D>::plan(const PenaltyCoupling& c, const Positions<D>&
   const bool faces = plan.start.kind == penalty::FeatureKind::face && plan.end.kind == penalty::FeatureKind::face &&
                      plan.mid.kind == penalty::FeatureKind::face;
   plan.same = faces && plan.start.facet == plan.end.facet && plan.mid.facet == plan.end.facet;
+  if (faces && !plan.same) {
+    // Faces of facets in one plane (a slave sliding over a flat master):
+    // the end facet's potential is the start's, so its discrete gradient
+    // in invariants holds the step.
+    PenaltyCoupling on = c;
+    on.facet = plan.end.facet;
+    const double end_at_start = penalty::penalty_energy<D>(nodes(on, x_n), c.k);
+    on.facet = plan.mid.facet;
+    const double mid_at_start = penalty::penalty_energy<D>(nodes(on, x_n), c.k);
+    const double tolerance = 64 * std::numeric_limits<double>::epsilon() * std::max(plan.phi_n, 1e-300);
+    plan.same = std::abs(end_at_start - plan.phi_n) <= tolerance && std::abs(mid_at_start - plan.phi_n) <= tolerance;
+    if (plan.same) plan.mid.facet = plan.start.facet = plan.end.facet;
+  }
   return plan;
 }
 

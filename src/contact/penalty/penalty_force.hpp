@@ -341,19 +341,26 @@ enum class FeatureKind { face, edge, vertex };
 template <int D, class T>
 T point_potential(const Eigen::Matrix<T, D, 1>& y_s, const Eigen::Matrix<T, D, 1>& x_a,
                   const Eigen::Matrix<T, D, 1>* x_b, double k, Eigen::Matrix<T, D, 3>* grad = nullptr) {
+  // (Products with constants are written so that no scalar without
+  // derivatives meets one with: Eigen's AutoDiff does not take it well.)
   Eigen::Matrix<T, D, 1> w = y_s - x_a;
-  T t(0);
-  if (x_b) {
-    const Eigen::Matrix<T, D, 1> e = *x_b - x_a;
-    t = w.dot(e) / e.squaredNorm();
-    w -= t * e;
+  if (!x_b) {
+    if (grad) {
+      grad->col(0) = w * k;
+      grad->col(1) = w * -k;
+      grad->col(2) = w * 0.0;
+    }
+    return w.squaredNorm() * (0.5 * k);
   }
+  const Eigen::Matrix<T, D, 1> e = *x_b - x_a;
+  const T t = w.dot(e) / e.squaredNorm();
+  w -= e * t;
   if (grad) {
-    grad->col(0) = T(k) * w;
-    grad->col(1) = -T(k) * (T(1) - t) * w;
-    grad->col(2) = -T(k) * t * w;
+    grad->col(0) = w * k;
+    grad->col(2) = w * (t * -k);
+    grad->col(1) = -(grad->col(0) + grad->col(2));
   }
-  return T(0.5 * k) * w.squaredNorm();
+  return w.squaredNorm() * (0.5 * k);
 }
 
 }  // namespace conserve::contact::penalty

@@ -1,0 +1,210 @@
+#include "contact/lagrange/method.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+
+namespace conserve::contact {
+namespace {
+
+/// Directions of a slave's force or motion its slips miss: the unit
+/// vectors `seeds` (its constraints' normals; stick: the axes) with the
+/// columns of `slips` (the slave's own block of W or T) projected out,
+/// orthonormalised in order.
+template <int D>
+std::vector<Vec<D>> missed_directions(const Mat<D>& slips, const std::vector<Vec<D>>& seeds) {
+  std::vector<Vec<D>> basis;  // the slips' column space, then the result
+  for (int j = 0; j < D; ++j) {
+    Vec<D> v = slips.col(j);
+    for (const Vec<D>& b : basis) v -= b.dot(v) * b;
+    if (v.norm() > 1e-10 * std::max(1.0, slips.norm())) basis.push_back(v.normalized());
+  }
+  const std::size_t slip_count = basis.size();
+  std::vector<Vec<D>> out;
+  for (const Vec<D>& seed : seeds) {
+    Vec<D> v = seed;
+    for (const Vec<D>& b : basis) v -= b.dot(v) * b;
+    if (v.norm() < 1e-10) continue;  // degenerate: dropped
+    v.normalize();
+    basis.push_back(v);
+    out.push_back(v);
+  }
+  (void)slip_count;
+  return out;
+}
+
+/// One multiplier: its slave, its force direction ν (at the slave; −W_mᵀ ν
+/// at the test row's other nodes) and its motion direction μ.
+template <int D>
+struct Multiplier {
+  int group = -1;  ///< the slave's row in SlaveRows
+  Vec<D> force = Vec<D>::Zero();
+  Vec<D> motion = Vec<D>::Zero();
+};
+
+template <int D>
+class LagrangeCoupling final : public Coupling {
+ public:
+  LagrangeCoupling(std::unique_ptr<Elimination<D>> elimination, double beta)
+      : e_(std::move(elimination)), beta_(beta) {
+    for (const Constraint<D>& c : e_->constraints()) m_ += c.kind == Kind::stick ? D : 1;
+    lambda_ = Eigen::VectorXd::Zero(m_);
+  }
+  [[nodiscard]] bool plain() const override { return e_->empty(); }
+  [[nodiscard]] int equations(int free) const override { return free + m_; }
+  void start(Eigen::VectorXd& u) override {
+    if (!plain()) e_->enforce(u);  // the same start as elimination's
+  }
+
+  void residual(const Eigen::VectorXd& u, Eigen::VectorXd& g, Eigen::VectorXd& magnitude,
+                Eigen::VectorXd& r) override {
+    const auto n = u.size();
+    // Where the constraints hold, from u: the elimination places the
+    // slaves (and its maps follow that configuration).
+    placed_ = u;
+    e_->enforce(placed_);
+    directions();
+    r.resize(n + m_);
+    r.head(n) = g;
+    const SlaveRows<D> rows = e_->slave_rows();
+    for (int k = 0; k < m_; ++k) {
+      const Multiplier<D>& mk = multipliers_[static_cast<std::size_t>(k)];
+      const int s = rows.slaves[static_cast<std::size_t>(mk.group)];
+      const Vec<D> f = lambda_[k] * mk.force;
+      r.template segment<D>(s * D) += f;
+      magnitude.template segment<D>(s * D) += f.cwiseAbs();
+      const BlockRow<D>& w = rows.test[static_cast<std::size_t>(mk.group)];
+      for (std::size_t b = 0; b < w.nodes.size(); ++b) {
+        if (w.nodes[b] == s) continue;
+        const Vec<D> fb = -(w.blocks[b].transpose() * f);
+        r.template segment<D>(w.nodes[b] * D) += fb;
+        magnitude.template segment<D>(w.nodes[b] * D) += fb.cwiseAbs();
+      }
+      r[n + k] = beta_ * mk.motion.dot(u.template segment<D>(s * D) - placed_.template segment<D>(s * D));
+    }
+  }
+
+  bool tangent(const Eigen::VectorXd& u, const SparseMatrix& K, const Eigen::VectorXd&, SparseMatrix& A) override {
+    const auto n = u.size();
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(static_cast<std::size_t>(K.nonZeros()) + static_cast<std::size_t>(m_) * 8 * D * D);
+    for (int col = 0; col < K.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(K, col); it; ++it) t.emplace_back(it.row(), col, it.value());
+    const SlaveRows<D> rows = e_->slave_rows();
+    for (int k = 0; k < m_; ++k) {
+      const Multiplier<D>& mk = multipliers_[static_cast<std::size_t>(k)];
+      const int s = rows.slaves[static_cast<std::size_t>(mk.group)];
+      const auto lam = static_cast<int>(n) + k;
+      for (int i = 0; i < D; ++i) {
+        t.emplace_back(s * D + i, lam, mk.force(i));  // B
+        t.emplace_back(lam, s * D + i, beta_ * mk.motion(i));  // β C: the slave's motion ...
+      }
+      const BlockRow<D>& w = rows.test[static_cast<std::size_t>(mk.group)];
+      for (std::size_t b = 0; b < w.nodes.size(); ++b) {
+        if (w.nodes[b] == s) continue;
+        const Vec<D> column = -(w.blocks[b].transpose() * mk.force);
+        for (int i = 0; i < D; ++i) t.emplace_back(w.nodes[b] * D + i, lam, column(i));
+      }
+      const BlockRow<D>& tr = rows.trial[static_cast<std::size_t>(mk.group)];
+      for (std::size_t b = 0; b < tr.nodes.size(); ++b) {
+        if (tr.nodes[b] == s) continue;  // ... less the masters' it follows (its slips are missed by μ)
+        const Vec<D> row = -(tr.blocks[b].transpose() * mk.motion);
+        for (int i = 0; i < D; ++i) t.emplace_back(lam, tr.nodes[b] * D + i, beta_ * row(i));
+      }
+      t.emplace_back(lam, lam, 0.0);  // the zero block's diagonal, kept in the pattern
+    }
+    SparseMatrix fresh(n + m_, n + m_);
+    fresh.setFromTriplets(t.begin(), t.end());
+    fresh.makeCompressed();
+    const bool same = A.rows() == fresh.rows() && A.nonZeros() == fresh.nonZeros() &&
+                      std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1, fresh.outerIndexPtr()) &&
+                      std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), fresh.innerIndexPtr());
+    if (same)
+      std::copy(fresh.valuePtr(), fresh.valuePtr() + fresh.nonZeros(), A.valuePtr());
+    else
+      A = std::move(fresh);
+    return !same;
+  }
+
+  void update(const Eigen::VectorXd& increment, Eigen::VectorXd& u) override {
+    const auto n = u.size();
+    u += increment.head(n);
+    lambda_ += increment.tail(m_);
+  }
+  void save() override {
+    saved_lambda_ = lambda_;
+    e_->save(saved_);
+  }
+  bool restore() override {
+    if (!saved_) return false;
+    lambda_ = saved_lambda_;
+    e_->restore(*saved_);
+    return true;
+  }
+
+ private:
+  /// The multipliers' directions from the maps at the last enforce():
+  /// per slave, its constraints' normals (stick: the axes) with the test
+  /// (force) or trial (motion) slips projected out.
+  void directions() {
+    const SlaveRows<D> rows = e_->slave_rows();
+    multipliers_.clear();
+    for (std::size_t c = 0; c < rows.slaves.size(); ++c) {
+      const int s = rows.slaves[c];
+      std::vector<Vec<D>> seeds;
+      for (const Constraint<D>& k : e_->constraints()) {
+        if (k.slave != s) continue;
+        if (k.kind == Kind::stick)
+          for (int i = 0; i < D; ++i) seeds.push_back(Vec<D>::Unit(i));
+        else
+          seeds.push_back(k.normal);
+      }
+      const auto own = [&](const BlockRow<D>& row) {
+        Mat<D> block = Mat<D>::Zero();
+        for (std::size_t b = 0; b < row.nodes.size(); ++b)
+          if (row.nodes[b] == s) block = row.blocks[b];
+        return block;
+      };
+      const std::vector<Vec<D>> force = missed_directions<D>(own(rows.test[c]), seeds);
+      const std::vector<Vec<D>> motion = missed_directions<D>(own(rows.trial[c]), seeds);
+      if (force.size() != seeds.size() || motion.size() != seeds.size())
+        throw SolverError("a contact constraint's multiplier direction is degenerate (its slips span its normal)");
+      for (std::size_t j = 0; j < seeds.size(); ++j)
+        multipliers_.push_back({static_cast<int>(c), force[j], motion[j]});
+    }
+    if (static_cast<int>(multipliers_.size()) != m_)
+      throw SolverError("the contact multipliers do not match the constraints");
+  }
+
+  std::unique_ptr<Elimination<D>> e_;
+  double beta_;
+  int m_ = 0;
+  Eigen::VectorXd lambda_, saved_lambda_;
+  Eigen::VectorXd placed_;
+  std::vector<Multiplier<D>> multipliers_;
+  std::optional<typename Elimination<D>::Saved> saved_;
+};
+
+}  // namespace
+
+template <int D>
+LagrangeMethod<D>::LagrangeMethod(const model::Model<D>& model, const SparseMatrix& mass,
+                                  std::vector<ContactPair<D>> pairs, double gap_tolerance, bool persistent)
+    : EliminationMethod<D>(model, mass, std::move(pairs), gap_tolerance, persistent),
+      mean_mass_(mass.diagonal().mean()) {}
+
+template <int D>
+void LagrangeMethod<D>::begin_step(std::int64_t step, double dt, const model::State& start) {
+  dt_ = dt;
+  EliminationMethod<D>::begin_step(step, dt, start);
+}
+
+template <int D>
+std::unique_ptr<Coupling> LagrangeMethod<D>::coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {
+  return std::make_unique<LagrangeCoupling<D>>(this->make_elimination(u_n, u_np1), 2.0 / (dt_ * dt_) * mean_mass_);
+}
+
+template class LagrangeMethod<2>;
+template class LagrangeMethod<3>;
+
+}  // namespace conserve::contact

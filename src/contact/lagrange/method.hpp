@@ -1,0 +1,37 @@
+#pragma once
+/// Lagrange multipliers (`[[contact]] method = "lagrange"`): the very
+/// constraints elimination holds (contact/elimination/), with the same
+/// active set, imposed instead by one multiplier per constrained direction
+/// as extra unknowns, so that the two methods solve the same discrete
+/// problem. For one solve, with the elimination's maps Δu = T q (trial)
+/// and r = Wᵀ g (test) at the iterate,
+///   g(u) + B λ = 0,   β c(u) = 0,
+/// B's columns spanning the forces Wᵀ leaves out (Wᵀ B = 0: at a slave a
+/// direction ν its test slips miss, at a master node −W_mᵀ ν), c the
+/// slave's distance from where the constraint holds (elimination's
+/// enforce()) along the directions μ its trial slips miss, and β =
+/// (2/Δt²) × the mean nodal mass, so that both rows are forces. Newton
+/// solves for (u, λ) with [[K, B], [β C, 0]], C = ∂c/∂u from T (B's own
+/// variation left out: a quasi-Newton step on the same equations). At a
+/// solution Wᵀ g = 0 and c = 0, elimination's equations: the trajectories
+/// agree to the solvers' tolerance. The number of equations is the free
+/// unknowns plus one per frictionless and D per stick constraint.
+#include "contact/elimination/method.hpp"
+
+namespace conserve::contact {
+
+template <int D>
+class LagrangeMethod final : public EliminationMethod<D> {
+ public:
+  LagrangeMethod(const model::Model<D>& model, const SparseMatrix& mass, std::vector<ContactPair<D>> pairs,
+                 double gap_tolerance, bool persistent);
+  [[nodiscard]] std::string_view name() const override { return "lagrange"; }
+  void begin_step(std::int64_t step, double dt, const model::State& start) override;
+  [[nodiscard]] std::unique_ptr<Coupling> coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) override;
+
+ private:
+  double mean_mass_ = 0.0;  ///< mean of the mass matrix's diagonal [kg]
+  double dt_ = 0.0;
+};
+
+}  // namespace conserve::contact
