@@ -32,13 +32,14 @@ void print_summary(const RunSummary& s) {
   fmt::print("smallest det F {:.4g}\n", s.statistic("min_det_F"));
   const auto& t = s.timings;
   fmt::print(
-      "time: assembly {:.2f} s on {} thread{} ({}), contact elimination {:.2f} s, linear set-up {:.2f} s ({} "
+      "time: assembly {:.2f} s on {} thread{} ({}), contact {} {:.2f} s, linear set-up {:.2f} s ({} "
       "set-ups), linear solve {:.2f} s ({} solves, {:.1f} {} iterations each), contact search {:.2f} s, output "
       "{:.2f} s\n",
       t.assembly,
       s.fewest_threads == s.most_threads ? fmt::format("{}", s.most_threads)
                                          : fmt::format("{} to {}", s.fewest_threads, s.most_threads),
-      s.most_threads == 1 ? "" : "s", s.thread_policy, t.elimination,
+      s.most_threads == 1 ? "" : "s", s.thread_policy, s.contact_method.empty() ? "elimination" : s.contact_method,
+      t.elimination,
       t.linear_setup, t.linear_setups, t.linear_solve, t.linear_solves,
       t.linear_solves ? static_cast<double>(t.linear_iterations) / static_cast<double>(t.linear_solves) : 0.0,
       s.linear_solver, t.contact_search, s.output_seconds);

@@ -360,6 +360,9 @@ void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
 void KrylovSolver::reset() {
   Petsc& p = *petsc_;
   p.make_ksp();  // a new KSP keeps no interpolation
+  // A saddle-point matrix kept for its pattern keeps its field split.
+  const auto rows = static_cast<Eigen::Index>(p.outer.size()) - 1;
+  if (p.A && rows > p.X.size() && p.X.size() > 0) p.split_fields(static_cast<PetscInt>(p.X.size()));
   p.gmres_matrix = false;
   p.lu_first_left = 0;
   p.lu_run = 1;

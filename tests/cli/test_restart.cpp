@@ -100,6 +100,11 @@ TEST(Restart, PenaltyContactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_penalty_ball", with_method(kBallOnPlane, "penalty"), 80, 75);
 }
 
+// The multipliers' active set comes back as elimination's does.
+TEST(Restart, LagrangeContactHistoryIsBitIdentical) {
+  expect_identical_after_restart("restart_lagrange_discs", with_method(kGlancingDiscs, "lagrange"), 35, 30);
+}
+
 // With impacts located, a run restarted from the checkpoint of a step cut
 // short at an impact goes on off the grid of Δt exactly as the run that
 // wrote it.

@@ -43,30 +43,8 @@ std::string with_model(const std::string& toml, const std::string& model) {
   return out + toml.substr(last);
 }
 
-struct Drift {
-  double energy = 0.0, linear = 0.0, angular = 0.0;
-  int contact_steps = 0;
-};
-
-template <int D>
-Drift measure(ContactRun<D>& run) {
-  const Diagnostics d0 = run.diagnostics();
-  const int steps = static_cast<int>(std::round(run.scenario.time.end / run.scenario.time.step));
-  // Relative to the largest K + W and Σ|p| (the drift references of summary.json)
-  double e_ref = std::abs(d0.total), l_ref = d0.linear.norm();
-  Drift r;
-  for (int n = 0; n < steps; ++n) {
-    run.step();
-    const Diagnostics d = run.diagnostics();
-    e_ref = std::max(e_ref, d.kinetic + d.strain);
-    l_ref = std::max(l_ref, d.linear.norm());
-    r.energy = std::max(r.energy, std::abs(d.total - d0.total) / e_ref);
-    r.linear = std::max(r.linear, (d.linear - d0.linear).cwiseAbs().maxCoeff() / l_ref);
-    r.angular = std::max(r.angular, (d.angular - d0.angular).cwiseAbs().maxCoeff() / (l_ref * run.problem.model.size()));
-    if (!run.contacts->constraints().empty()) ++r.contact_steps;
-  }
-  return r;
-}
+using test::Drift;
+using test::measure;
 
 template <int D>
 void check_glancing_impact(const std::string& model) {

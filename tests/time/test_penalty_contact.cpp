@@ -22,40 +22,8 @@ namespace {
 
 using test::ContactRun;
 
-struct Drift {
-  double energy = 0.0, linear = 0.0, angular = 0.0;
-  double counted = 0.0;      ///< of total + Σ contact_released
-  double released = 0.0;    ///< Σ contact_released [J]
-  double penetration = 0.0;  ///< the deepest slave node behind a facet [m]
-  double spring = 0.0;       ///< the largest contact energy [J]
-  int contact_steps = 0;
-};
-
-/// Steps `run` to its end; drifts relative to the largest K + W, Σ|p|
-/// (and Σ|p| × size), as summary.json's.
-template <int D>
-Drift measure(ContactRun<D>& run) {
-  const Diagnostics d0 = run.diagnostics();
-  const int steps = static_cast<int>(std::round(run.scenario.time.end / run.scenario.time.step));
-  double e_ref = std::abs(d0.total), l_ref = d0.linear.norm();
-  Drift r;
-  for (int n = 0; n < steps; ++n) {
-    run.step();
-    const Diagnostics d = run.diagnostics();
-    const auto& c = run.last.contact;
-    r.released += c.contact_released;
-    e_ref = std::max(e_ref, d.kinetic + d.strain);
-    l_ref = std::max(l_ref, d.linear.norm());
-    r.energy = std::max(r.energy, std::abs(d.total - d0.total) / e_ref);
-    r.counted = std::max(r.counted, std::abs(d.total + r.released - d0.total) / e_ref);
-    r.linear = std::max(r.linear, (d.linear - d0.linear).cwiseAbs().maxCoeff() / l_ref);
-    r.angular = std::max(r.angular, (d.angular - d0.angular).cwiseAbs().maxCoeff() / (l_ref * run.problem.model.size()));
-    r.penetration = std::max(r.penetration, c.slave_penetration);
-    r.spring = std::max(r.spring, c.contact_energy);
-    r.contact_steps += c.contact_energy > 0.0;
-  }
-  return r;
-}
+using test::Drift;
+using test::measure;
 
 template <int D>
 Drift glancing(const std::string& keys, const std::string& model_keys = "") {

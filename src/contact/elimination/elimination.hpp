@@ -116,6 +116,12 @@ class Elimination {
     Eigen::MatrixXd master;
     Tangents<D> slip = Tangents<D>::Zero();
   };
+  /// Per slave node (group g, of slave_rows().slaves[g]): its motion
+  /// (trial) and force (test) coefficients over its own facets' nodes and
+  /// its slip slots, before chains are composed: what a method holding
+  /// each constraint by its own unknown reads.
+  [[nodiscard]] const Coefficients& local_trial(std::size_t g) const { return trial_[g]; }
+  [[nodiscard]] const Coefficients& local_test(std::size_t g) const { return test_[g]; }
 
  private:
   /// A copy would work on the same constraints: only save() makes one,
@@ -191,6 +197,7 @@ class Elimination {
   std::vector<int> slaves_;                          ///< per group: its slave node
   std::vector<BlockRow<D>> trial_rows_, test_rows_;  ///< per group: the slave's rows of T and W (chains composed)
   std::vector<Coefficients> test_;                   ///< per group: its test coefficients
+  std::vector<Coefficients> trial_;                  ///< per group: its trial coefficients (before chains)
   std::vector<int> order_;                           ///< groups, each after those of its chained master nodes
   std::shared_ptr<TangentReduction<D>> reduction_;   ///< K_r's pattern and maps, kept while the nodes are unchanged
   static constexpr int kMaxSwitches = 2;

@@ -288,8 +288,9 @@ void Elimination<D>::build(const Eigen::VectorXd* u) {
   std::vector<const Coefficients*> trial, test;
   for (const Local& l : locals) trial.push_back(&l.trial), test.push_back(&l.test);
   test_.clear();
+  trial_.clear();
   cosine_.clear();
-  for (const Local& l : locals) test_.push_back(l.test), cosine_.push_back(l.cosine);
+  for (const Local& l : locals) test_.push_back(l.test), trial_.push_back(l.trial), cosine_.push_back(l.cosine);
   const std::size_t count = groups_.size();
   slaves_.resize(count);
   for (std::size_t g = 0; g < count; ++g) slaves_[g] = groups_[g].slave;

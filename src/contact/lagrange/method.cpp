@@ -33,8 +33,8 @@ std::vector<Vec<D>> missed_directions(const Mat<D>& slips, const std::vector<Vec
   return out;
 }
 
-/// One multiplier: its slave, its force direction ν (at the slave; −W_mᵀ ν
-/// at the test row's other nodes) and its motion direction μ.
+/// One multiplier: its slave's group, its force direction ν (at the slave;
+/// −W_aᵀ ν at the nodes a of its facets) and its motion direction μ.
 template <int D>
 struct Multiplier {
   int group = -1;  ///< the slave's row in SlaveRows
@@ -70,15 +70,14 @@ class LagrangeCoupling final : public Coupling {
     for (int k = 0; k < m_; ++k) {
       const Multiplier<D>& mk = multipliers_[static_cast<std::size_t>(k)];
       const int s = rows.slaves[static_cast<std::size_t>(mk.group)];
+      const typename Elimination<D>::Coefficients& w = e_->local_test(static_cast<std::size_t>(mk.group));
       const Vec<D> f = lambda_[k] * mk.force;
       r.template segment<D>(s * D) += f;
       magnitude.template segment<D>(s * D) += f.cwiseAbs();
-      const BlockRow<D>& w = rows.test[static_cast<std::size_t>(mk.group)];
-      for (std::size_t b = 0; b < w.nodes.size(); ++b) {
-        if (w.nodes[b] == s) continue;
-        const Vec<D> fb = -(w.blocks[b].transpose() * f);
-        r.template segment<D>(w.nodes[b] * D) += fb;
-        magnitude.template segment<D>(w.nodes[b] * D) += fb.cwiseAbs();
+      for (std::size_t a = 0; a < w.nodes.size(); ++a) {
+        const Vec<D> fa = -(w.master.block(0, static_cast<Eigen::Index>(a) * D, D, D).transpose() * f);
+        r.template segment<D>(w.nodes[a] * D) += fa;
+        magnitude.template segment<D>(w.nodes[a] * D) += fa.cwiseAbs();
       }
       r[n + k] = beta_ * mk.motion.dot(u.template segment<D>(s * D) - placed_.template segment<D>(s * D));
     }
@@ -96,20 +95,19 @@ class LagrangeCoupling final : public Coupling {
       const int s = rows.slaves[static_cast<std::size_t>(mk.group)];
       const auto lam = static_cast<int>(n) + k;
       for (int i = 0; i < D; ++i) {
-        t.emplace_back(s * D + i, lam, mk.force(i));  // B
+        t.emplace_back(s * D + i, lam, mk.force(i));           // B
         t.emplace_back(lam, s * D + i, beta_ * mk.motion(i));  // β C: the slave's motion ...
       }
-      const BlockRow<D>& w = rows.test[static_cast<std::size_t>(mk.group)];
-      for (std::size_t b = 0; b < w.nodes.size(); ++b) {
-        if (w.nodes[b] == s) continue;
-        const Vec<D> column = -(w.blocks[b].transpose() * mk.force);
-        for (int i = 0; i < D; ++i) t.emplace_back(w.nodes[b] * D + i, lam, column(i));
+      const typename Elimination<D>::Coefficients& w = e_->local_test(static_cast<std::size_t>(mk.group));
+      for (std::size_t a = 0; a < w.nodes.size(); ++a) {
+        const Vec<D> column = -(w.master.block(0, static_cast<Eigen::Index>(a) * D, D, D).transpose() * mk.force);
+        for (int i = 0; i < D; ++i) t.emplace_back(w.nodes[a] * D + i, lam, column(i));
       }
-      const BlockRow<D>& tr = rows.trial[static_cast<std::size_t>(mk.group)];
-      for (std::size_t b = 0; b < tr.nodes.size(); ++b) {
-        if (tr.nodes[b] == s) continue;  // ... less the masters' it follows (its slips are missed by μ)
-        const Vec<D> row = -(tr.blocks[b].transpose() * mk.motion);
-        for (int i = 0; i < D; ++i) t.emplace_back(lam, tr.nodes[b] * D + i, beta_ * row(i));
+      // ... less its facets' nodes' that it follows (its slips are missed by μ)
+      const typename Elimination<D>::Coefficients& tr = e_->local_trial(static_cast<std::size_t>(mk.group));
+      for (std::size_t a = 0; a < tr.nodes.size(); ++a) {
+        const Vec<D> row = -(tr.master.block(0, static_cast<Eigen::Index>(a) * D, D, D).transpose() * mk.motion);
+        for (int i = 0; i < D; ++i) t.emplace_back(lam, tr.nodes[a] * D + i, beta_ * row(i));
       }
       t.emplace_back(lam, lam, 0.0);  // the zero block's diagonal, kept in the pattern
     }
@@ -159,14 +157,13 @@ class LagrangeCoupling final : public Coupling {
         else
           seeds.push_back(k.normal);
       }
-      const auto own = [&](const BlockRow<D>& row) {
+      const auto slips = [](const typename Elimination<D>::Coefficients& l) {
         Mat<D> block = Mat<D>::Zero();
-        for (std::size_t b = 0; b < row.nodes.size(); ++b)
-          if (row.nodes[b] == s) block = row.blocks[b];
+        block.template leftCols<D - 1>() = l.slip;
         return block;
       };
-      const std::vector<Vec<D>> force = missed_directions<D>(own(rows.test[c]), seeds);
-      const std::vector<Vec<D>> motion = missed_directions<D>(own(rows.trial[c]), seeds);
+      const std::vector<Vec<D>> force = missed_directions<D>(slips(e_->local_test(c)), seeds);
+      const std::vector<Vec<D>> motion = missed_directions<D>(slips(e_->local_trial(c)), seeds);
       if (force.size() != seeds.size() || motion.size() != seeds.size())
         throw SolverError("a contact constraint's multiplier direction is degenerate (its slips span its normal)");
       for (std::size_t j = 0; j < seeds.size(); ++j)

@@ -7,9 +7,12 @@
 /// and r = Wᵀ g (test) at the iterate,
 ///   g(u) + B λ = 0,   β c(u) = 0,
 /// B's columns spanning the forces Wᵀ leaves out (Wᵀ B = 0: at a slave a
-/// direction ν its test slips miss, at a master node −W_mᵀ ν), c the
-/// slave's distance from where the constraint holds (elimination's
-/// enforce()) along the directions μ its trial slips miss, and β =
+/// direction ν its test slips miss, at its facets' nodes −W_aᵀ ν, from
+/// each constraint's own coefficients: a facet node that is itself a slave
+/// (a chain) takes the force and passes it on through its own multiplier,
+/// where elimination composes the maps), c the slave's distance from
+/// where the constraint holds (elimination's enforce()) along the
+/// directions μ its trial slips miss, and β =
 /// (2/Δt²) × the mean nodal mass, so that both rows are forces. Newton
 /// solves for (u, λ) with [[K, B], [β C, 0]], C = ∂c/∂u from T (B's own
 /// variation left out: a quasi-Newton step on the same equations). At a

@@ -136,16 +136,6 @@ void PenaltyMethod<D>::begin_step(std::int64_t, double, const model::State& star
 }
 
 template <int D>
-double PenaltyMethod<D>::energy(const std::vector<PenaltyCoupling>& couplings, const Eigen::VectorXd& u) const {
-  const Positions<D> x = positions(u);
-  double e = 0.0;
-  for (const PenaltyCoupling& c : couplings)
-    e += c.stick ? penalty::penalty_energy<D>(nodes(c, x), c.k, AnchorOf<D>(c).ptr)
-                 : potential(c, nearest(c.pair, c.slave, c.facet, x), x);
-  return e;
-}
-
-template <int D>
 std::vector<int> PenaltyMethod<D>::around(int p, int f) const {
   const ContactSurface& master = collisions_.pair(p).master;
   std::vector<int> facets{f};
@@ -237,18 +227,16 @@ StepPlan<D> PenaltyMethod<D>::plan(const PenaltyCoupling& c, const Positions<D>&
   const AnchorOf<D> anchor(c);
   if (c.stick) {  // on its facet's plane throughout, with its spring
     plan.same = true;
-    plan.phi_n = c.start_facet < 0 ? 0.0 : penalty::penalty_energy<D>(nodes(c, x_n), c.k, anchor.ptr);
-    plan.start_potential = penalty::penalty_energy<D>(nodes(c, x_n), c.k, anchor.ptr);
+    plan.phi_n = penalty::penalty_energy<D>(nodes(c, x_n), c.k, anchor.ptr);
     return plan;
   }
   const Positions<D> x_mid = 0.5 * (x_n + x);
   plan.start = nearest(c.pair, c.slave, c.start_facet < 0 ? c.facet : c.start_facet, x_n);
   plan.end = nearest(c.pair, c.slave, c.facet, x);
   plan.mid = nearest(c.pair, c.slave, c.facet, x_mid);
-  plan.start_potential = potential(c, plan.start, x_n);
-  // The energy the step starts from: what the last step ended with (0 for
-  // a slave coupled in this step; a difference is counted at the step's end).
-  plan.phi_n = plan.start_potential;
+  // The energy the step starts from: what the last step ended with (a
+  // slave coupled in this step brings its own in, counted at the step's end).
+  plan.phi_n = potential(c, plan.start, x_n);
   const bool faces = plan.start.kind == penalty::FeatureKind::face && plan.end.kind == penalty::FeatureKind::face &&
                      plan.mid.kind == penalty::FeatureKind::face;
   plan.same = faces && plan.start.facet == plan.end.facet && plan.mid.facet == plan.end.facet;
@@ -533,7 +521,7 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
     const StepPlan<D> step = plan(c, x_n_, x);
     // A slave coupled in this step that started it behind the master
     // brings that potential in (the last step ended without it).
-    if (c.start_facet < 0) released -= step.start_potential;
+    if (c.start_facet < 0) released -= step.phi_n;
     double normal = 0.0, energy = 0.0;
     Vec<D> direction;
     if (c.stick) {

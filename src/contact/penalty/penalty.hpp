@@ -65,8 +65,7 @@ struct Feature {
 template <int D>
 struct StepPlan {
   Feature<D> start, mid, end;
-  double phi_n = 0.0;            ///< Φ at the step's start [J]
-  double start_potential = 0.0;  ///< the same (kept apart for a coupling new in the step)
+  double phi_n = 0.0;  ///< Φ at the step's start [J]
   bool same = false;
 };
 
@@ -104,9 +103,6 @@ class PenaltyMethod final : public Method<D> {
 
   /// ε of pair p [Pa/m].
   [[nodiscard]] double penalty(int p) const { return epsilon_[static_cast<std::size_t>(p)]; }
-  /// The stored energy Σ ½ k ⟨−g⟩² of the couplings at positions u
-  /// (each on its own facet) [J].
-  [[nodiscard]] double energy(const std::vector<PenaltyCoupling>& couplings, const Eigen::VectorXd& u) const;
   /// The force ∂Φ/∂u of the couplings over the step u_n → u (added to g)
   /// and, if K is given, its derivative by u (added at K's entries, which
   /// must be in its pattern).
