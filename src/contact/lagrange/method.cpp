@@ -19,7 +19,6 @@ std::vector<Vec<D>> missed_directions(const Mat<D>& slips, const std::vector<Vec
     for (const Vec<D>& b : basis) v -= b.dot(v) * b;
     if (v.norm() > 1e-10 * std::max(1.0, slips.norm())) basis.push_back(v.normalized());
   }
-  const std::size_t slip_count = basis.size();
   std::vector<Vec<D>> out;
   for (const Vec<D>& seed : seeds) {
     Vec<D> v = seed;
@@ -29,7 +28,6 @@ std::vector<Vec<D>> missed_directions(const Mat<D>& slips, const std::vector<Vec
     basis.push_back(v);
     out.push_back(v);
   }
-  (void)slip_count;
   return out;
 }
 

@@ -261,7 +261,6 @@ void PenaltyMethod<D>::add_force(const std::vector<PenaltyCoupling>& couplings, 
                                  const Eigen::VectorXd& u, Eigen::VectorXd& g, Eigen::VectorXd* magnitude,
                                  SparseMatrix* K) const {
   const Positions<D> x_n = positions(u_n), x = positions(u);
-  const Positions<D> x_mid = 0.5 * (x_n + x);
   for (const PenaltyCoupling& c : couplings) {
     const AnchorOf<D> anchor(c);
     const StepPlan<D> step = plan(c, x_n, x);
@@ -361,7 +360,6 @@ void PenaltyMethod<D>::add_force(const std::vector<PenaltyCoupling>& couplings, 
       if (magnitude) magnitude->template segment<D>(node[a] * D) += f.col(a).cwiseAbs();
     }
   }
-  (void)x_mid;
 }
 
 template <int D>

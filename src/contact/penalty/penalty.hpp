@@ -36,14 +36,11 @@ struct PenaltyCoupling {
   int slave = -1;  ///< global node
   int facet = -1;  ///< of the pair's master surface, at the step's end
   double k = 0.0;  ///< ε a_s [N/m]
-  /// The facet its potential at the step's start is measured on (the last
-  /// step ended on it), −1 if the slave was not coupled then (Φ_n = 0).
+  /// The facet around which its potential at the step's start is measured
+  /// (the last step ended on it), −1 if the slave was not coupled then.
   int start_facet = -1;
   bool stick = false;
   std::array<double, 2> anchor{};  ///< stick: ξ₀ (D − 1 entries)
-  bool operator==(const PenaltyCoupling& o) const {
-    return pair == o.pair && slave == o.slave && facet == o.facet;
-  }
 };
 
 /// The part of a master surface nearest to a slave (penalty_force.hpp).
