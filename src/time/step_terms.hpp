@@ -4,10 +4,10 @@
 ///              + f_int(u_n, u_{n+1})           internal force, (17)
 ///              − f_ext                         body force (gravity)
 /// Each term gives its value and its derivative by u_{n+1}; the tangent is
-/// the sum of the derivatives. The contact constraints are not a term: the
-/// direct elimination reduces the sum (contact/elimination/elimination.hpp). A method
-/// that adds forces (a penalty, say) is one more StepTerm; StepProblem
-/// sums whatever terms it is given.
+/// the sum of the derivatives. Contact is not a term: a constraint method's
+/// coupling (contact/method.hpp) forms the Newton system from the sum
+/// (elimination reduces it, a penalty adds its forces in a grown pattern,
+/// multipliers add unknowns).
 #include <memory>
 #include <string_view>
 #include <vector>
