@@ -90,15 +90,15 @@ struct ContactSpec {
 /// Active-set control (docs/theory.md, "The step with contact").
 struct ActiveSetSpec {
   int max_passes = 30;  ///< solves of one step before giving up on a changing active set
-  /// `persistent`: after each step the relative velocity of the active
-  /// slaves is set to zero and its energy given back (contact/
+  /// `persistent` (default): after each step the relative velocity of the
+  /// active slaves is set to zero and its energy given back (contact/
   /// persistent_velocity.hpp); `paper`: the mid-point velocity (19) only.
-  ContactScheme scheme = ContactScheme::paper;
+  ContactScheme scheme = ContactScheme::persistent;
   /// End a step early at an impact, so that a slave is activated with a
   /// gap of at most gap_tolerance × (its slave facets' longest edge).
-  /// Off by default: with the paper's velocity every activation bounces
-  /// the slave off and each return is another split (docs/validation.md §7).
-  bool locate_impacts = false;
+  /// With the paper's velocity every activation bounces the slave off and
+  /// each return is another split: the paper's scheme turns it off.
+  bool locate_impacts = true;
   double gap_tolerance = 1e-3;
   /// Shorten the steps ahead of a predicted lift-off, so that a slave lets
   /// go with almost no force left (contact::ActiveSet::release_step).

@@ -111,7 +111,11 @@ ActiveSetSpec parse_active_set(const Section& active_set) {
   ActiveSetSpec spec;
   spec.max_passes = active_set.integer("max_passes");
   spec.scheme = active_set.string("scheme") == "persistent" ? ContactScheme::persistent : ContactScheme::paper;
-  spec.locate_impacts = active_set.boolean("locate_impacts");
+  // The paper's scheme is one key away: with it impacts are not located
+  // unless asked for (its slaves bounce off at every activation, and each
+  // return would be another split).
+  spec.locate_impacts = active_set.has("locate_impacts") ? active_set.boolean("locate_impacts")
+                                                         : spec.scheme == ContactScheme::persistent;
   spec.gap_tolerance = active_set.number("gap_tolerance");
   spec.locate_releases = active_set.boolean("locate_releases");
   // With the paper's velocity an active slave's force reverses from step to

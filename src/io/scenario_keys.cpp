@@ -403,21 +403,22 @@ SectionSpec active_set_section() {
                .doc = "solves of one step before giving up on an active set that keeps changing"},
               {.name = "scheme",
                .type = KeyType::choice,
-               .default_value = "paper",
+               .default_value = "persistent",
                .choices = {"paper", "persistent"},
                .doc = "`persistent`: after each step the relative velocity of the slaves in contact is set to "
                       "zero and its kinetic energy given back to the bodies' motion, so that nodes in sustained "
                       "contact do not chatter (E, L, J kept exactly; docs/theory.md); `paper`: the mid-point "
-                      "velocity alone, as in the paper"},
+                      "velocity alone, as in the paper (and `locate_impacts` then defaults to `false`)"},
               {.name = "locate_impacts",
                .type = KeyType::boolean,
-               .default_value = "false",
+               .default_value = "true",
                .doc = "end a step early where a slave would meet its master with a gap above `gap_tolerance`, "
                       "and go on from there at the full step, so that contact takes hold at the crossing (no "
-                      "hovering gap; variable steps conserve as fixed ones, docs/theory.md); use it with "
+                      "hovering gap; variable steps conserve as fixed ones, docs/theory.md); meant for "
                       "`scheme = \"persistent\"`: with the paper's velocity, slaves bounce off at every "
                       "activation and each return is another split; `false`: a slave is activated holding "
-                      "the gap it had at the start of the step, as in the paper"},
+                      "the gap it had at the start of the step, as in the paper; the default is `false` with "
+                      "`scheme = \"paper\"`"},
               {.name = "gap_tolerance",
                .type = KeyType::number,
                .default_value = "1e-3",

@@ -109,6 +109,24 @@ TEST(ScenarioContact, PairWithDefaults) {
   EXPECT_EQ(c.kind, ContactKind::stick);
   EXPECT_EQ(c.depth_factor, 0.5);
   EXPECT_EQ(s.active_set.max_passes, 30);
+  // Located impacts with the persistent velocity by default (issue 46).
+  EXPECT_EQ(s.active_set.scheme, ContactScheme::persistent);
+  EXPECT_TRUE(s.active_set.locate_impacts);
+}
+
+// The paper's scheme is one key away: `scheme = "paper"` turns the impact
+// location off with it, unless it is asked for.
+TEST(ScenarioContact, ThePapersSchemeIsOneKeyAway) {
+  const auto paper = parse_scenario(contact("a", "plane:surface", "[active_set]\nscheme = \"paper\"\n"), case_file());
+  EXPECT_EQ(paper.active_set.scheme, ContactScheme::paper);
+  EXPECT_FALSE(paper.active_set.locate_impacts);
+  const auto both = parse_scenario(
+      contact("a", "plane:surface", "[active_set]\nscheme = \"paper\"\nlocate_impacts = true\n"), case_file());
+  EXPECT_TRUE(both.active_set.locate_impacts);
+  const auto unlocated =
+      parse_scenario(contact("a", "plane:surface", "[active_set]\nlocate_impacts = false\n"), case_file());
+  EXPECT_EQ(unlocated.active_set.scheme, ContactScheme::persistent);
+  EXPECT_FALSE(unlocated.active_set.locate_impacts);
 }
 
 TEST(ScenarioContact, EveryKeySet) {

@@ -42,15 +42,15 @@ void expect_messages(const std::string& text, const std::vector<BadOverride>& ca
 TEST(ScenarioOverrides, ReplaceAndAddKeys) {
   const std::string text = minimal();
   const Scenario plain = parse_scenario(text, case_file());
-  ASSERT_EQ(plain.active_set.scheme, ContactScheme::paper);
-  ASSERT_FALSE(plain.active_set.locate_impacts);
+  ASSERT_EQ(plain.active_set.scheme, ContactScheme::persistent);
+  ASSERT_TRUE(plain.active_set.locate_impacts);
   const Scenario s = parse_scenario(text, case_file(),
-                                    {"time.end=0.2", "active_set.scheme=persistent", "active_set.locate_impacts=true",
+                                    {"time.end=0.2", "active_set.scheme=paper", "active_set.locate_impacts=true",
                                      "active_set.gap_tolerance=2e-3", "loads.gravity=[0, 0, -9.81]",
                                      "title=a bare string", "output.directory=\"out/x\""});
   EXPECT_EQ(s.time.end, 0.2);                                 // replaced
   EXPECT_EQ(s.time.step, plain.time.step);                    // kept
-  EXPECT_EQ(s.active_set.scheme, ContactScheme::persistent);  // table created
+  EXPECT_EQ(s.active_set.scheme, ContactScheme::paper);  // table created
   EXPECT_TRUE(s.active_set.locate_impacts);
   EXPECT_EQ(s.active_set.gap_tolerance, 2e-3);
   EXPECT_EQ(s.gravity, Eigen::Vector3d(0, 0, -9.81));

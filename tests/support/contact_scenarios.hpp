@@ -1,6 +1,7 @@
 #pragma once
 /// Small contact scenarios shared by the contact tests (coarse meshes, short
 /// runs: they are the shortened versions of the examples).
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -490,10 +491,36 @@ kind = "stick"
 /// predictor). A test of the scheme's own conservation takes it out.
 inline std::string to_round_off(const std::string& toml) { return toml + "[newton]\nresidual_tolerance = 1e-15\n"; }
 
-/// `toml` (without an [active_set] table) with impacts located in time and
-/// the persistent-contact velocity update.
+/// `toml` with `keys` ("scheme = \"paper\"\n") in its [active_set] table:
+/// merged into the table if it has one (a key given there before is
+/// replaced), else a table appended.
+inline std::string with_active_set(const std::string& toml, const std::string& keys) {
+  const std::string header = "[active_set]\n";
+  const std::size_t at = toml.find(header);
+  if (at == std::string::npos) return toml + header + keys;
+  const std::size_t body = at + header.size();
+  std::size_t end = toml.find("\n[", body - 1);
+  end = end == std::string::npos ? toml.size() : end + 1;
+  auto key_of = [](const std::string& line) { return line.substr(0, line.find_first_of(" =")); };
+  std::string kept;
+  for (std::size_t line = body; line < end;) {
+    const std::size_t next = std::min(toml.find('\n', line) + 1, end);
+    const std::string text = toml.substr(line, next - line);
+    if (keys.find("\n" + key_of(text) + " ") == std::string::npos && keys.rfind(key_of(text) + " ", 0) != 0)
+      kept += text;
+    line = next;
+  }
+  return toml.substr(0, body) + kept + keys + toml.substr(end);
+}
+
+/// `toml` under the paper's scheme: the mid-point velocity (19), slaves
+/// activated at the gap they start the step with.
+inline std::string paper(const std::string& toml) { return with_active_set(toml, "scheme = \"paper\"\n"); }
+
+/// `toml` with impacts located in time and the persistent-contact velocity
+/// update (the defaults, given explicitly).
 inline std::string located(const std::string& toml) {
-  return toml + "[active_set]\nscheme = \"persistent\"\nlocate_impacts = true\n";
+  return with_active_set(toml, "scheme = \"persistent\"\nlocate_impacts = true\n");
 }
 
 /// A block driven at `speed` into the flank of a base (2D or 3D, no

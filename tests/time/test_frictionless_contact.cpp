@@ -25,14 +25,14 @@ namespace {
 using test::ContactRun;
 
 TEST(FrictionlessContact, ReducedTangentMatchesFiniteDifferences3d) {
-  ContactRun<3> run(test::glancing_spheres(3, "frictionless", 0.1));
+  ContactRun<3> run(test::paper(test::glancing_spheres(3, "frictionless", 0.1)));
   test::run_until_contact(run, 3, 150);
   for (int n = 0; n < 3; ++n) run.step();  // let the slaves slide
   EXPECT_LT(test::reduced_tangent_error(run), 1e-6);
 }
 
 TEST(FrictionlessContact, ReducedTangentMatchesFiniteDifferences2d) {
-  ContactRun<2> run(test::glancing_spheres(2, "frictionless", 0.1));
+  ContactRun<2> run(test::paper(test::glancing_spheres(2, "frictionless", 0.1)));
   test::run_until_contact(run, 2, 150);
   for (int n = 0; n < 3; ++n) run.step();
   EXPECT_LT(test::reduced_tangent_error(run), 1e-6);
@@ -44,7 +44,7 @@ TEST(FrictionlessContact, ReducedTangentMatchesFiniteDifferences2d) {
 // before the update, bit for bit (before, revert() refused: Newton could
 // not backtrack in a contact pass and a diverging step was cut back).
 TEST(FrictionlessContact, RevertRestoresTheIterateAndItsConstraints) {
-  ContactRun<3> run(test::glancing_spheres(3, "frictionless", 0.1));
+  ContactRun<3> run(test::paper(test::glancing_spheres(3, "frictionless", 0.1)));
   test::run_until_contact(run, 3, 150);
   const auto& model = run.problem.model;
   const double dt = run.scenario.time.step;
@@ -79,7 +79,7 @@ TEST(FrictionlessContact, RevertRestoresTheIterateAndItsConstraints) {
 // products on a real contact configuration (the glancing spheres; the
 // chained three cylinders below), pattern kept through a Newton update.
 TEST(FrictionlessContact, ReducedTangentEqualsTheProducts2d) {
-  ContactRun<2> run(test::glancing_spheres(2, "frictionless", 0.1));
+  ContactRun<2> run(test::paper(test::glancing_spheres(2, "frictionless", 0.1)));
   test::run_until_contact(run, 2, 150);
   EXPECT_LT(test::reduced_product_error(run), 1e-14);
 }
@@ -154,7 +154,7 @@ Record run_and_record(ContactRun<D>& run) {
 
 template <int D>
 void check_glancing_impact() {
-  ContactRun<D> run(test::glancing_spheres(D, "frictionless", 0.1));
+  ContactRun<D> run(test::paper(test::glancing_spheres(D, "frictionless", 0.1)));
   const Record r = run_and_record(run);
   std::printf("[ measured ] frictionless glancing impact %dD, 200 steps: E %.2e  L (%.2e %.2e %.2e)  "
               "J (%.2e %.2e %.2e)  held gap %.2e  max penetration %.2e m  %d contact steps  %d activations  %d releases  "
@@ -180,7 +180,7 @@ TEST(FrictionlessContact, GlancingImpactConservesEnergyAndMomenta2d) { check_gla
 // pattern between Newton iterations; the prescribed master must still not
 // move (its rows stay masked) and the energy must stay conserved.
 TEST(FrictionlessContact, SlidingAcrossRigidFacetsKeepsTheMasterFixed) {
-  test::ContactRun<2> run(test::disc_sliding_on_segment(0.15));
+  test::ContactRun<2> run(test::paper(test::disc_sliding_on_segment(0.15)));
   const Diagnostics d0 = run.diagnostics();
   double drift = 0.0, rigid_motion = 0.0;
   int contact_steps = 0, facet_changes = 0;
@@ -316,9 +316,7 @@ TEST(FrictionlessContact, TwoHollowCylindersThroughTheirFirstContact) {
 // constraint now holds the paper's rate condition (48) for the step
 // (Elimination::enforce), under which the force is the paper's normal one.
 TEST(FrictionlessContact, TwoHollowCylindersLocatedThroughTheirFirstContact) {
-  std::string scenario = example("cylinders/two_hollow_cylinders.toml");
-  const std::string section = "[active_set]\n";
-  scenario.replace(scenario.find(section), section.size(), section + "scheme = \"persistent\"\nlocate_impacts = true\n");
+  const std::string scenario = test::located(example("cylinders/two_hollow_cylinders.toml"));
   const HollowCylinders r = run_hollow_cylinders(scenario, 60);
   EXPECT_GT(r.rate_steps, 0);
   EXPECT_LT(r.behind, 1e-12);
@@ -417,7 +415,7 @@ int two_constraint_slaves(const std::vector<contact::Constraint<D>>& constraints
 // reached 0.999 in step 7 and a cell inverted in step 19. Now: 7 such
 // nodes through the impact, E drift 2.8e-13, no slave behind its master.
 TEST(FrictionlessContact, NodesOnTwoSlaveSurfacesHoldBothConstraints) {
-  ContactRun<3> run(test::corner_block(0.012));
+  ContactRun<3> run(test::paper(test::corner_block(0.012)));
   const Diagnostics d0 = run.diagnostics();
   double e = 0.0, behind = 0.0;
   int most = 0;
@@ -443,7 +441,7 @@ TEST(FrictionlessContact, NodesOnTwoSlaveSurfacesHoldBothConstraints) {
 // 2.76e-4 m (0.55 % of the 0.05 m facets) on 2026-11-26, with E conserved.
 // The bound is that measure's regression guard, not a physics claim.
 TEST(FrictionlessContact, ACornerOfThreeMastersHoldsTwoOfTheirConstraints) {
-  ContactRun<3> run(test::three_wall_corner_block(0.01));
+  ContactRun<3> run(test::paper(test::three_wall_corner_block(0.01)));
   const Diagnostics d0 = run.diagnostics();
   double e = 0.0, behind = 0.0;
   int most = 0, per_node = 0;
@@ -469,7 +467,7 @@ TEST(FrictionlessContact, ACornerOfThreeMastersHoldsTwoOfTheirConstraints) {
 // along the edge, the split of their residual between the two
 // zero-work directions) against central differences.
 TEST(FrictionlessContact, ReducedTangentWithTwoConstraintsPerSlaveMatchesDifferences) {
-  ContactRun<3> run(test::corner_block(0.012));
+  ContactRun<3> run(test::paper(test::corner_block(0.012)));
   for (int n = 0; n < 12; ++n) run.step();
   const int doubles = two_constraint_slaves(run.contacts->constraints());
   ASSERT_GE(doubles, 1);
@@ -502,10 +500,7 @@ int crease_slaves(const std::vector<contact::Constraint<D>>& constraints) {
 // squared (1.30e-4, 1.33e-6, 1.32e-8 at 1e-6, 1e-7, 1e-8, and 2.8e-9 at
 // 3e-9; measured 2026-11-26), where a missing term would not fall.
 TEST(FrictionlessContact, ReducedTangentOfACreasePairMatchesDifferences) {
-  std::string scenario = example("cylinders/two_hollow_cylinders.toml");
-  const std::string section = "[active_set]\n";
-  scenario.replace(scenario.find(section), section.size(),
-                   section + "scheme = \"persistent\"\nlocate_impacts = true\n");
+  const std::string scenario = test::located(example("cylinders/two_hollow_cylinders.toml"));
   ContactRun<3> run(scenario);
   const Diagnostics d0 = run.diagnostics();
   int formed = 0, creases = 0;  // pairs formed in the steps; slaves holding one at the last step's end

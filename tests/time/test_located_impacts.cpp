@@ -23,7 +23,7 @@ using test::ContactRun;
 /// Located impacts with the persistent-contact velocity, or (the control)
 /// the paper's activation and velocity.
 std::string with_location(const std::string& toml, bool locate) {
-  return toml + "[active_set]\n" + (locate ? "locate_impacts = true\nscheme = \"persistent\"\n" : "");
+  return locate ? test::located(toml) : test::paper(toml);
 }
 
 struct Measured {

@@ -21,8 +21,9 @@ namespace {
 
 using test::ContactRun;
 
+/// `toml` with the velocity update `scheme` alone (impacts not located).
 std::string with_scheme(const std::string& toml, const std::string& scheme) {
-  return toml + "[active_set]\nscheme = \"" + scheme + "\"\n";
+  return test::with_active_set(toml, "scheme = \"" + scheme + "\"\nlocate_impacts = false\n");
 }
 
 /// The largest relative velocity of an active slave against its facet at

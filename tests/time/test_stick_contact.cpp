@@ -14,13 +14,13 @@ namespace {
 using test::ContactRun;
 
 TEST(StickContact, ReducedTangentMatchesFiniteDifferencesDeformableMaster) {
-  ContactRun<3> run(test::two_boxes("stick", 0.2));
+  ContactRun<3> run(test::paper(test::two_boxes("stick", 0.2)));
   test::run_until_contact(run, 3, 100);
   EXPECT_LT(test::reduced_tangent_error(run), 1e-6);
 }
 
 TEST(StickContact, ReducedTangentMatchesFiniteDifferencesRigidMaster) {
-  ContactRun<3> run(test::ball_on_plane("stick", 0.3));
+  ContactRun<3> run(test::paper(test::ball_on_plane("stick", 0.3)));
   test::run_until_contact(run, 3, 200);
   EXPECT_LT(test::reduced_tangent_error(run), 1e-6);
 }
@@ -28,7 +28,7 @@ TEST(StickContact, ReducedTangentMatchesFiniteDifferencesRigidMaster) {
 // The reduced tangent's products (43) against the plain sparse products,
 // stick on a deformable master; pattern kept through a Newton update.
 TEST(StickContact, ReducedTangentEqualsTheProducts) {
-  ContactRun<3> run(test::two_boxes("stick", 0.2));
+  ContactRun<3> run(test::paper(test::two_boxes("stick", 0.2)));
   test::run_until_contact(run, 3, 100);
   EXPECT_LT(test::reduced_product_error(run), 1e-14);
 }
@@ -63,7 +63,7 @@ Record run_and_record(ContactRun<D>& run) {
 }
 
 TEST(StickContact, BallOnRigidPlaneConservesEnergyThroughImpact) {
-  ContactRun<3> run(test::ball_on_plane("stick", 0.3));
+  ContactRun<3> run(test::paper(test::ball_on_plane("stick", 0.3)));
   const Record r = run_and_record(run);
   std::printf("[ measured ] stick ball, 300 steps: E drift %.2e, %d activations, %d releases, first release at step %d, "
               "max penetration %.2e m, at most %d passes\n",
@@ -74,7 +74,7 @@ TEST(StickContact, BallOnRigidPlaneConservesEnergyThroughImpact) {
 }
 
 TEST(StickContact, TwoFreeBodiesConserveLinearMomentumNotAngular) {
-  ContactRun<3> run(test::two_boxes("stick", 0.2));
+  ContactRun<3> run(test::paper(test::two_boxes("stick", 0.2)));
   const Record r = run_and_record(run);
   std::printf("[ measured ] stick, two free boxes, 100 steps: E drift %.2e, L drift (%.2e %.2e %.2e), "
               "J change (%.2e %.2e %.2e) [not conserved by stick], %d activations, %d releases\n",
@@ -89,7 +89,7 @@ TEST(StickContact, TwoFreeBodiesConserveLinearMomentumNotAngular) {
 // Contact is made and lost again: the boxes hit, stick, rebound apart; the
 // constraints are released by tension (46) and the set ends empty.
 TEST(StickContact, ContactIsMadeAndReleased) {
-  ContactRun<3> run(test::two_boxes("stick", 0.2));
+  ContactRun<3> run(test::paper(test::two_boxes("stick", 0.2)));
   const Record r = run_and_record(run);
   std::printf("[ measured ] first release at step %d; %d releases; %zu active at the end; at most %d passes/step\n",
               r.first_release_step, r.releases, r.final_active, r.max_passes);
@@ -106,7 +106,7 @@ namespace conserve::time {
 namespace {
 
 TEST(StickContact, TwoFreeDiscsConserveLinearMomentum2d) {
-  test::ContactRun<2> run(test::glancing_spheres(2, "stick", 0.1));
+  test::ContactRun<2> run(test::paper(test::glancing_spheres(2, "stick", 0.1)));
   const Diagnostics d0 = run.diagnostics();
   double e = 0.0, l = 0.0, j = 0.0;
   int activations = 0;
