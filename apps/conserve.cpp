@@ -66,6 +66,9 @@ void print_summary(const RunSummary& s) {
         "{:.3e} m); history.csv's pushes_given_up says when. Make those faces masters too.\n",
         s.statistic("pushes_given_up"), s.statistic("min_active_gap"));
   fmt::print("output: {}/history.csv, {}/solution.pvd", s.output_directory.string(), s.output_directory.string());
+  if (s.vtu_frames > 0)
+    fmt::print(" ({} VTU frames, {:.1f} MB, {:.0f} kB a frame)", s.vtu_frames, static_cast<double>(s.vtu_bytes) / 1e6,
+               static_cast<double>(s.vtu_bytes) / 1e3 / static_cast<double>(s.vtu_frames));
   if (s.earlier_files_removed > 0)
     fmt::print(" ({} files of an earlier run in that folder removed first)", s.earlier_files_removed);
   fmt::print("\n");

@@ -12,7 +12,7 @@ packages=(
   libeigen3-dev libsuitesparse-dev libopenblas-dev libmetis-dev
   petsc-dev
   libgmsh-dev gmsh
-  libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev libssl-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev libssl-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
   python3-vtk9 python3-meshio

@@ -13,12 +13,11 @@ are drawn. Writes DIR/snapshot_NNNNNN.png per step and DIR/snapshots.png
 
 3D: the boundary triangles of the tetrahedra (faces used by one cell) and
 the triangles of bare rigid surfaces, with back faces culled, coloured by
-body, by |velocity| (speed, the default) or by the von Mises Cauchy stress
-(stress) of the cell under the face. 2D: the triangles (tripcolor) and bare
+body, by |velocity| (speed, the default) or by the von Mises stress (stress,
+the VTU field von_mises) of the cell under the face. 2D: the triangles (tripcolor) and bare
 rigid segments. Rigid bare surfaces are clipped to the frame.
 """
 import argparse
-import base64
 import pathlib
 import re
 import sys
@@ -31,59 +30,37 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader  # noqa: E402
 
 VTK_LINE, VTK_TRIANGLE, VTK_TETRA = 3, 5, 10
-DTYPES = {"Float64": "<f8", "Float32": "<f4", "Int64": "<i8", "Int32": "<i4", "UInt64": "<u8", "UInt32": "<u4",
-          "UInt8": "u1", "Int8": "i1"}
 
 
 # --------------------------------------------------------------------------
 # Reading
 
 
-def decode(text, dtype, header="<u8"):
-    """Inline binary VTK data: base64 of (byte count header + raw data), the
-    header and data encoded together or as two base64 blocks."""
-    text = "".join(text.split())
-    hsize = np.dtype(header).itemsize
-    raw = base64.b64decode(text)
-    n = int(np.frombuffer(raw[:hsize], dtype=header)[0])
-    if len(raw) - hsize != n:  # header encoded as its own block
-        hlen = 4 * ((hsize + 2) // 3)
-        n = int(np.frombuffer(base64.b64decode(text[:hlen])[:hsize], dtype=header)[0])
-        raw = base64.b64decode(text[hlen:])[:n]
-    else:
-        raw = raw[hsize:]
-    return np.frombuffer(raw, dtype=dtype)
-
-
 def read_vtu(path):
-    root = ET.parse(path).getroot()
-    if root.get("type") != "UnstructuredGrid":
-        sys.exit(f"render_snapshots: {path}: not a VTK UnstructuredGrid")
-    header = DTYPES[root.get("header_type", "UInt32")]
-    if root.get("compressor"):
-        sys.exit(f"render_snapshots: {path}: compressed VTU is not supported")
-    piece = root.find("UnstructuredGrid/Piece")
+    """A VTU file through VTK's own reader (raw, base64 or compressed): its
+    points, cells (connectivity, the end offset of each cell, VTK types)
+    and fields."""
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutput()
+    if reader.GetErrorCode() != 0 or grid is None or grid.GetPoints() is None:
+        sys.exit(f"render_snapshots: {path}: not a VTK UnstructuredGrid VTK can read")
+    cells = grid.GetCells()
 
-    def array(el):
-        fmt = el.get("format", "ascii")
-        dt = DTYPES[el.get("type")]
-        if fmt == "binary":
-            a = decode(el.text or "", dt, header)
-        elif fmt == "ascii":
-            a = np.array((el.text or "").split(), dtype=dt)
-        else:
-            sys.exit(f"render_snapshots: {path}: DataArray format '{fmt}' is not supported")
-        k = int(el.get("NumberOfComponents", "1"))
-        return a.reshape(-1, k) if k > 1 else a
+    def fields(data):
+        return {data.GetArrayName(k): vtk_to_numpy(data.GetArray(k)) for k in range(data.GetNumberOfArrays())}
 
-    g = {"points": array(piece.find("Points/DataArray"))}
-    for el in piece.find("Cells"):
-        g[el.get("Name")] = array(el)
-    g["point_data"] = {el.get("Name"): array(el) for el in piece.findall("PointData/DataArray")}
-    g["cell_data"] = {el.get("Name"): array(el) for el in piece.findall("CellData/DataArray")}
-    return g
+    return {"points": vtk_to_numpy(grid.GetPoints().GetData()).astype(float),
+            "connectivity": vtk_to_numpy(cells.GetConnectivityArray()),
+            "offsets": vtk_to_numpy(cells.GetOffsetsArray())[1:],  # VTK's start with 0
+            "types": vtk_to_numpy(grid.GetCellTypesArray()),
+            "point_data": fields(grid.GetPointData()),
+            "cell_data": fields(grid.GetCellData())}
 
 
 def read_pvd(run_dir):
@@ -166,12 +143,6 @@ def flat_hull(points, dim):
     return points[convex_hull_2d(q)]
 
 
-def von_mises(sigma9):
-    s = sigma9.reshape(-1, 3, 3)
-    dev = s - np.trace(s, axis1=1, axis2=2)[:, None, None] * np.eye(3) / 3
-    return np.sqrt(1.5 * np.einsum("nij,nij->n", dev, dev))
-
-
 def clip_polygon(poly, lo, hi):
     """Sutherland-Hodgman clip of a polygon (k x 3) to the box [lo, hi]."""
     for axis in range(3):
@@ -201,7 +172,7 @@ class Scene:
         self.points = g["points"]
         body = g["cell_data"].get("body")
         vel = g["point_data"].get("velocity")
-        stress = g["cell_data"].get("cauchy_stress")
+        stress = g["cell_data"].get("von_mises")
         tet_idx, tets = cells_of_type(g, VTK_TETRA)
         tri_idx, tris = cells_of_type(g, VTK_TRIANGLE)
         line_idx, lines = cells_of_type(g, VTK_LINE)
@@ -241,7 +212,7 @@ class Scene:
             self.values = speed[self.faces].mean(axis=1)
             self.kind = "speed"
         else:
-            self.values = von_mises(stress)[owner_cell]
+            self.values = stress[owner_cell]
             self.kind = "stress"
 
     def extent(self):

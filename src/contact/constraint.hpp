@@ -103,6 +103,9 @@ struct Constraint {
   /// the end of the previous step (set by ActiveSet::begin_step).
   double normal_force = 0.0;
   double start_force = 0.0;
+  /// Stick, one constraint on the slave: the rest of g_s, g_s − f_N n [N]
+  /// (output only; not stored in checkpoints).
+  Vec<D> tangential_force = Vec<D>::Zero();
 };
 
 }  // namespace conserve::contact

@@ -120,12 +120,16 @@ class Coupling {
   virtual bool restore() = 0;
 };
 
-/// One contact's normal force f_N along its master's normal n [N].
+/// One contact's force on its slave node over the last step [N]: the
+/// normal part f_N along its master's normal n, and the whole vector
+/// (stick: with its tangential part).
 template <int D>
 struct ContactForce {
   int slave = -1;  ///< global node
   double normal = 0.0;
   Vec<D> direction = Vec<D>::Zero();
+  int pair = -1;                   ///< the contact pair (index of [[contact]])
+  Vec<D> force = Vec<D>::Zero();  ///< the force the master exerts on the slave
 };
 
 template <int D>

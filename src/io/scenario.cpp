@@ -212,6 +212,8 @@ OutputSpec parse_output(const Section& s) {
   if (directory.empty()) s.fail("directory", "is empty", "a folder name");
   output.directory = directory;
   output.vtu_every = s.integer("vtu_every");
+  output.compress = s.boolean("compress");
+  output.single_precision = s.string("precision") == "single";
   output.progress_every = s.integer("progress_every");
   output.contact_state = s.boolean("contact_state");
   output.checkpoint_every = s.integer("checkpoint_every");

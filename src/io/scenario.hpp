@@ -150,6 +150,8 @@ struct SolverSpec {
 struct OutputSpec {
   std::filesystem::path directory = "out";  ///< relative to the working directory
   int vtu_every = 10;          ///< write a VTU every N steps (0: none; the first and last are always written if > 0)
+  bool compress = true;        ///< VTU arrays zlib-compressed
+  bool single_precision = true;  ///< VTU fields as Float32
   int progress_every = 0;      ///< 0: a progress line about once a second
   bool contact_state = false;  ///< also write the slaves' contact state (gap, normal, facet) with each VTU
   int checkpoint_every = 0;    ///< write checkpoints/ckpt_NNNNNN.bin every N steps (0: none)

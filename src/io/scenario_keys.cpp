@@ -193,6 +193,18 @@ SectionSpec output_section() {
                .default_value = "10",
                .min = at_least(0),
                .doc = "write a VTU file every N steps (0: none; if > 0 the first and last step are always written)"},
+              {.name = "compress",
+               .type = KeyType::boolean,
+               .default_value = "true",
+               .doc = "VTU arrays in zlib-compressed blocks (VTK's `vtkZLibDataCompressor`, read by ParaView, VTK "
+                      "and meshio); `false`: raw binary"},
+              {.name = "precision",
+               .type = KeyType::choice,
+               .default_value = "single",
+               .choices = {"single", "double"},
+               .doc = "VTU point and cell fields as Float32 (7 significant digits, as FEBio's and Abaqus' result "
+                      "files) or Float64 (about 1.8× the size compressed); the points stay Float64, and "
+                      "history.csv, summary.json and the checkpoints keep every digit either way"},
               {.name = "progress_every",
                .type = KeyType::integer,
                .default_value = "0",

@@ -1,4 +1,5 @@
-/// VTK XML UnstructuredGrid (binary, base64 inline, UInt64 headers) and PVD.
+/// VTK XML UnstructuredGrid (appended raw binary, optionally zlib-compressed
+/// blocks, UInt64 headers) and PVD.
 #include "io/vtu_writer.hpp"
 
 #include <fstream>
@@ -10,6 +11,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include <zlib.h>
+
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 
@@ -17,57 +20,101 @@ namespace conserve::io {
 namespace {
 
 constexpr std::string_view byte_order = std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
+/// Uncompressed bytes per zlib block (VTK's own writer's default).
+constexpr std::size_t kBlockSize = 32768;
 
-std::string base64(const std::vector<unsigned char>& bytes) {
-  static constexpr char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
-    std::uint32_t word = 0;
-    for (std::size_t k = 0; k < 3; ++k) word = (word << 8) | (k < n ? bytes[i + k] : 0u);
-    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? alphabet[(word >> (18 - 6 * k)) & 63u] : '=';
+/// The arrays of one file: the XML that names them and the appended data
+/// they point into (each array: its UInt64 header, then its bytes).
+class Arrays {
+ public:
+  explicit Arrays(const VtuFormat& format) : format_(format) {}
+
+  template <typename T>
+  std::string add(std::string_view type, std::string_view name, int components, const std::vector<T>& values,
+                   const std::vector<std::string>& component_names = {}) {
+    std::string attributes = name.empty() ? std::string() : fmt::format(" Name=\"{}\"", detail::xml_escape(name));
+    for (std::size_t c = 0; c < component_names.size(); ++c)
+      attributes += fmt::format(" ComponentName{}=\"{}\"", c, detail::xml_escape(component_names[c]));
+    const std::string element =
+        fmt::format("        <DataArray type=\"{}\"{} NumberOfComponents=\"{}\" format=\"appended\" offset=\"{}\"/>\n",
+                    type, attributes, components, data_.size());
+    append(reinterpret_cast<const unsigned char*>(values.data()), values.size() * sizeof(T));
+    return element;
   }
-  return out;
-}
 
-/// base64(UInt64 byte count + raw values), the inline binary encoding.
-template <typename T>
-std::string encode(const std::vector<T>& values) {
-  const std::uint64_t size = values.size() * sizeof(T);
-  std::vector<unsigned char> bytes(sizeof size + size);
-  std::memcpy(bytes.data(), &size, sizeof size);
-  if (size > 0) std::memcpy(bytes.data() + sizeof size, values.data(), size);
-  return base64(bytes);
-}
+  /// A field of doubles, as Float32 when the format asks for it.
+  std::string add_field(const VtuField& field) {
+    if (!format_.single_precision) return add("Float64", field.name, field.components, field.values, field.component_names);
+    const std::vector<float> single(field.values.begin(), field.values.end());
+    return add("Float32", field.name, field.components, single, field.component_names);
+  }
 
-template <typename T>
-std::string data_array(std::string_view type, std::string_view name, int components, const std::vector<T>& values) {
-  const auto name_attribute = name.empty() ? std::string() : fmt::format(" Name=\"{}\"", detail::xml_escape(name));
-  return fmt::format("        <DataArray type=\"{}\"{} NumberOfComponents=\"{}\" format=\"binary\">{}</DataArray>\n",
-                     type, name_attribute, components, encode(values));
-}
+  [[nodiscard]] const std::string& data() const { return data_; }
+  [[nodiscard]] const VtuFormat& format() const { return format_; }
+
+ private:
+  template <typename T>
+  void put(T value) {
+    data_.append(reinterpret_cast<const char*>(&value), sizeof value);
+  }
+
+  // Raw: [byte count] bytes. Compressed (VTK's block layout): [blocks,
+  // block size, last block's size, each block's compressed size] and the
+  // compressed blocks.
+  void append(const unsigned char* bytes, std::size_t size) {
+    if (!format_.compress) {
+      put<std::uint64_t>(size);
+      if (size > 0) data_.append(reinterpret_cast<const char*>(bytes), size);
+      return;
+    }
+    const std::size_t blocks = (size + kBlockSize - 1) / kBlockSize;
+    put<std::uint64_t>(blocks);
+    put<std::uint64_t>(kBlockSize);
+    put<std::uint64_t>(blocks == 0 ? 0 : size - (blocks - 1) * kBlockSize);
+    const std::size_t sizes_at = data_.size();
+    data_.append(blocks * sizeof(std::uint64_t), '\0');
+    std::vector<unsigned char> out(compressBound(kBlockSize));
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t n = std::min(kBlockSize, size - b * kBlockSize);
+      uLongf written = out.size();
+      if (compress2(out.data(), &written, bytes + b * kBlockSize, n, kCompressionLevel) != Z_OK)
+        throw Error(fmt::format("VTU: zlib could not compress a block of {} bytes", n));
+      const std::uint64_t w = written;
+      std::memcpy(data_.data() + sizes_at + b * sizeof w, &w, sizeof w);
+      data_.append(reinterpret_cast<const char*>(out.data()), written);
+    }
+  }
+
+  /// zlib's level: on the fields of a run, level 6 (its default) gives
+  /// files within 1 % of level 9 at a third of its time.
+  static constexpr int kCompressionLevel = 6;
+  VtuFormat format_;
+  std::string data_;
+};
 
 /// <PointData> or <CellData> with `count` tuples per field.
-std::string fields(std::string_view tag, const std::vector<VtuField>& list, Eigen::Index count) {
+std::string fields(Arrays& arrays, std::string_view tag, const std::vector<VtuField>& list, Eigen::Index count) {
   std::string out = fmt::format("      <{}>\n", tag);
   for (const auto& field : list) {
     if (field.components < 1 || field.values.size() != static_cast<std::size_t>(field.components * count)) {
       throw Error(fmt::format("VTU {} field '{}': {} values for {} entries of {} components", tag, field.name,
                               field.values.size(), count, field.components));
     }
-    out += data_array("Float64", field.name, field.components, field.values);
+    if (!field.component_names.empty() && field.component_names.size() != static_cast<std::size_t>(field.components))
+      throw Error(fmt::format("VTU {} field '{}': {} component names for {} components", tag, field.name,
+                              field.component_names.size(), field.components));
+    out += arrays.add_field(field);
   }
   return out + fmt::format("      </{}>\n", tag);
 }
 
-std::string points(const Eigen::MatrixXd& p) {
+std::string points(Arrays& arrays, const Eigen::MatrixXd& p) {
   if (p.rows() < 1 || p.rows() > 3) throw Error(fmt::format("VTU points: {} coordinates per point", p.rows()));
   std::vector<double> xyz(static_cast<std::size_t>(3 * p.cols()), 0.0);
   for (Eigen::Index j = 0; j < p.cols(); ++j) {
     for (Eigen::Index i = 0; i < p.rows(); ++i) xyz[static_cast<std::size_t>(3 * j + i)] = p(i, j);
   }
-  return "      <Points>\n" + data_array("Float64", "", 3, xyz) + "      </Points>\n";
+  return "      <Points>\n" + arrays.add("Float64", "", 3, xyz) + "      </Points>\n";
 }
 
 std::uint8_t cell_type(int nodes_per_cell) {
@@ -99,7 +146,7 @@ std::vector<int> node_counts(const VtuGrid& grid) {
   return grid.nodes_per_cell;
 }
 
-std::string cells(const VtuGrid& grid) {
+std::string cells(Arrays& arrays, const VtuGrid& grid) {
   const auto& c = grid.cells;
   const std::vector<int> counts = node_counts(grid);
   std::vector<std::int64_t> connectivity;
@@ -116,23 +163,29 @@ std::string cells(const VtuGrid& grid) {
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
     types.push_back(cell_type(m));
   }
-  return "      <Cells>\n" + data_array("Int64", "connectivity", 1, connectivity) +
-         data_array("Int64", "offsets", 1, offsets) + data_array("UInt8", "types", 1, types) + "      </Cells>\n";
+  return "      <Cells>\n" + arrays.add("Int64", "connectivity", 1, connectivity) +
+         arrays.add("Int64", "offsets", 1, offsets) + arrays.add("UInt8", "types", 1, types) + "      </Cells>\n";
 }
 
 }  // namespace
 
-void write_vtu(const std::filesystem::path& file, const VtuGrid& grid) {
+std::uintmax_t write_vtu(const std::filesystem::path& file, const VtuGrid& grid, const VtuFormat& format) {
+  Arrays arrays(format);
+  std::string body = fields(arrays, "PointData", grid.point_data, grid.points.cols());
+  body += fields(arrays, "CellData", grid.cell_data, grid.cells.cols());
+  body += points(arrays, grid.points);
+  body += cells(arrays, grid);
   std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"{}\" "
-      "header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
-      byte_order, grid.points.cols(), grid.cells.cols());
-  xml += fields("PointData", grid.point_data, grid.points.cols());
-  xml += fields("CellData", grid.cell_data, grid.cells.cols());
-  xml += points(grid.points);
-  xml += cells(grid);
-  xml += "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+      "header_type=\"UInt64\"{}>\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
+      byte_order, format.compress ? " compressor=\"vtkZLibDataCompressor\"" : "", grid.points.cols(),
+      grid.cells.cols());
+  xml += body;
+  xml += "    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
+  xml += arrays.data();
+  xml += "\n  </AppendedData>\n</VTKFile>\n";
   write_atomically(file, xml);
+  return xml.size();
 }
 
 PvdWriter::PvdWriter(std::filesystem::path file) : file_(std::move(file)) {}

@@ -1,6 +1,7 @@
 #pragma once
 /// ParaView output: VTU unstructured-grid files and a PVD time series.
 #include <Eigen/Core>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -9,11 +10,14 @@
 namespace conserve::io {
 
 /// A named field with `components` values per point or cell, stored
-/// point-major: values[i * components + c].
+/// point-major: values[i * components + c]. `component_names`, if given
+/// (one per component), are written as ComponentName attributes, which
+/// ParaView shows (e.g. stress "xx" … "xz").
 struct VtuField {
   std::string name;
   int components = 1;
   std::vector<double> values;
+  std::vector<std::string> component_names{};
 };
 
 /// One unstructured grid of simplices, of one kind or mixed (e.g. the
@@ -30,9 +34,18 @@ struct VtuGrid {
   std::vector<VtuField> cell_data;
 };
 
-/// Writes a VTK XML UnstructuredGrid (binary, base64 inline) atomically:
-/// to a temporary file renamed into place. Throws Error on I/O failure.
-void write_vtu(const std::filesystem::path& file, const VtuGrid& grid);
+/// How a VTU stores its arrays.
+struct VtuFormat {
+  /// zlib-compressed blocks (VTK's vtkZLibDataCompressor), else raw bytes.
+  bool compress = true;
+  /// Point and cell fields as Float32 (the points stay Float64).
+  bool single_precision = false;
+};
+
+/// Writes a VTK XML UnstructuredGrid atomically (to a temporary file
+/// renamed into place), its arrays as appended raw binary data, and
+/// returns the file's size [bytes]. Throws Error on I/O failure.
+std::uintmax_t write_vtu(const std::filesystem::path& file, const VtuGrid& grid, const VtuFormat& format = {});
 
 /// A ParaView .pvd collection, rewritten atomically after each added step.
 class PvdWriter {

@@ -33,7 +33,7 @@ Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
                std::shared_ptr<const material::Law> law, double density, double thickness) {
   check_shape<D>(mesh, name);
   Body body{name,    model.num_nodes(), mesh.num_nodes(), model.num_cells(), mesh.num_cells(), std::move(law),
-            density, {}};
+            density, {}, D == 2 ? thickness : 1.0};
   model.X.conservativeResize(D, body.first_node + body.num_nodes);
   model.X.rightCols(body.num_nodes) = mesh.points.topRows(D);
   model.cells.conservativeResize(D + 1, body.first_cell + body.num_cells);

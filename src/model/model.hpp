@@ -25,6 +25,7 @@ struct Body {
   double density = 0.0;                      ///< [kg/m³]
   /// Named boundary facet groups, in global node numbers (dim × n).
   std::map<std::string, Eigen::MatrixXi> facet_groups;
+  double thickness = 1.0;  ///< out-of-plane size in 2D [m] (1 in 3D)
 };
 
 /// Prescribed displacement components: u[dofs[i]](t) = value[i] + rate[i]·t.

@@ -29,7 +29,8 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// run's totals. 10: the constraints' force at the start of their last
 /// step and the lengths of the last two steps (located releases).
 /// 13: the contact method's state as its own bytes (contact::Method::save).
-constexpr std::uint32_t kVersion = 13;
+/// 14: a penalty force's pair and whole vector.
+constexpr std::uint32_t kVersion = 14;
 
 using Writer = ByteWriter;
 using Reader = ByteReader;

@@ -10,7 +10,8 @@
 
 namespace conserve::simulation {
 
-std::vector<std::string> history_columns(const std::vector<std::string>& body_names) {
+std::vector<std::string> history_columns(const std::vector<std::string>& body_names,
+                                         const std::vector<std::string>& pair_names) {
   std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
                                 "J_x",  "J_y",  "J_z"};
   for (const Statistic& s : statistics())
@@ -18,6 +19,8 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
   c.insert(c.end(), {"drift_E", "drift_L", "drift_J"});
   for (const auto& name : body_names)
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
+  for (const auto& name : pair_names)
+    for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("F_{}:{}", axis, name));
   return c;
 }
 
@@ -26,6 +29,15 @@ template <int D>
 std::vector<std::string> body_names(const model::Model<D>& model) {
   std::vector<std::string> names;
   for (const auto& b : model.bodies) names.push_back(b.name);
+  return names;
+}
+
+template <int D>
+std::vector<std::string> pair_names(const contact::Method<D>* contacts) {
+  std::vector<std::string> names;
+  if (contacts)
+    for (const auto& p : const_cast<contact::Method<D>*>(contacts)->pairs())
+      names.push_back(p.slave.name + ">" + p.master.name);
   return names;
 }
 
@@ -44,6 +56,18 @@ void add_bare_surfaces(const model::Model<D>& model, Eigen::MatrixXi& facets, st
   }
 }
 
+/// Length (2D) or area (3D) of facet f of `surface` at positions x.
+template <int D>
+double facet_measure(const contact::ContactSurface& surface, int f, const contact::Positions<D>& x) {
+  const Vec<D> a = x.col(surface.facets(1, f)) - x.col(surface.facets(0, f));
+  if constexpr (D == 2) {
+    return a.norm();
+  } else {
+    const Vec<D> b = x.col(surface.facets(2, f)) - x.col(surface.facets(0, f));
+    return 0.5 * a.cross(b).norm();
+  }
+}
+
 std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) {
   std::error_code ec;
   std::filesystem::create_directories(vtu_every > 0 ? dir / "vtu" : dir, ec);
@@ -54,16 +78,17 @@ std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) 
 
 template <int D>
 OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory,
-                              int vtu_every, contact::Method<D>* contacts, bool contact_state,
+                              const io::OutputSpec& spec, contact::Method<D>* contacts,
                               std::optional<double> resume_time)
     : assembler_(assembler),
       contacts_(contacts),
-      contact_state_(contact_state && contacts),
-      directory_(prepared(directory, vtu_every)),
-      vtu_every_(vtu_every),
-      history_(directory / "history.csv", history_columns(body_names(assembler.model()))) {
+      contact_state_(spec.contact_state && contacts),
+      directory_(prepared(directory, spec.vtu_every)),
+      vtu_every_(spec.vtu_every),
+      format_{.compress = spec.compress, .single_precision = spec.single_precision},
+      history_(directory / "history.csv", history_columns(body_names(assembler.model()), pair_names<D>(contacts))) {
   add_bare_surfaces<D>(assembler.model(), surface_facets_, surface_body_);
-  if (vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
+  if (spec.vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
   if (pvd_ && resume_time) pvd_->resume(*resume_time);
 }
 
@@ -87,6 +112,11 @@ void OutputWriter<D>::write(const model::State& state, const StepFigures& figure
     if (!s.column.empty()) row.push_back(s.value(figures));
   row.insert(row.end(), {drift.energy, drift.linear, drift.angular});
   for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
+  if (contacts_) {
+    std::vector<Vec3> pair_force(contacts_->pairs().size(), Vec3::Zero());
+    for (const auto& f : contacts_->contact_forces()) pair_force.at(f.pair).template head<D>() += f.force;
+    for (const Vec3& F : pair_force) row.insert(row.end(), {F.x(), F.y(), F.z()});
+  }
   history_.write_row(row);
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);
 }
@@ -113,42 +143,83 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   };
   point_vector("displacement", state.u);
   point_vector("velocity", state.v);
-  if (contacts_) grid.point_data.push_back(contact_field(model.num_nodes()));
-  io::VtuField stress{"cauchy_stress", 9, {}}, energy{"strain_energy_density", 1, {}}, body{"body", 1, {}};
+  if (contacts_) add_contact_fields(state, grid);
+  // Cauchy stress as ParaView's symmetric tensor (xx, yy, zz, xy, yz, xz).
+  io::VtuField stress{"stress", 6, {}, {"xx", "yy", "zz", "xy", "yz", "xz"}}, mises{"von_mises", 1, {}},
+      energy{"strain_energy_density", 1, {}}, body{"body", 1, {}};
   for (int c = 0; c < model.num_cells(); ++c) {
     const material::Law& law = *model.bodies[model.cell_body[c]].law;
     const fem::NodeMatrix<D> x = assembler_.cell_positions(c, state.u);
     const Mat3 sigma = fem::cauchy_stress<D>(model.geometry[c], law, x);
-    stress.values.insert(stress.values.end(), sigma.data(), sigma.data() + 9);
+    stress.values.insert(stress.values.end(),
+                         {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(0, 2)});
+    const Mat3 deviator = sigma - sigma.trace() / 3.0 * Mat3::Identity();
+    mises.values.push_back(std::sqrt(1.5 * deviator.squaredNorm()));
     energy.values.push_back(fem::strain_energy<D>(model.geometry[c], law, x) / model.geometry[c].volume);
     body.values.push_back(model.cell_body[c]);
   }
   // Bare surfaces have no stress or energy density (NaN: undefined).
-  stress.values.resize(stress.values.size() + 9 * surface_body_.size(), std::nan(""));
+  stress.values.resize(stress.values.size() + 6 * surface_body_.size(), std::nan(""));
+  mises.values.resize(mises.values.size() + surface_body_.size(), std::nan(""));
   energy.values.resize(energy.values.size() + surface_body_.size(), std::nan(""));
   body.values.insert(body.values.end(), surface_body_.begin(), surface_body_.end());
-  grid.cell_data = {std::move(stress), std::move(energy), std::move(body)};
+  grid.cell_data = {std::move(stress), std::move(mises), std::move(energy), std::move(body)};
   const std::string name = fmt::format("vtu/step_{:06d}.vtu", state.step);
-  io::write_vtu(directory_ / name, grid);
+  frame_bytes_ += io::write_vtu(directory_ / name, grid, format_);
+  ++frames_;
   pvd_->add(state.time, name);
   if (contact_state_) write_contact_state(state);
 }
 
 template <int D>
-io::VtuField OutputWriter<D>::contact_field(int num_nodes) const {
-  // Normal contact force f_N on active slaves [N]; NaN elsewhere, so that
-  // ParaView shows the active set by colour (and hides the rest). A slave
-  // holding two constraints shows the magnitude of f₁n₁ + f₂n₂, signed as
-  // their sum.
-  io::VtuField f{"contact_normal_force", 1, std::vector<double>(num_nodes, std::nan(""))};
+void OutputWriter<D>::add_contact_fields(const model::State& state, io::VtuGrid& grid) const {
+  const auto& model = assembler_.model();
+  const int n = model.num_nodes();
+  const double nan = std::nan("");
+  const contact::Positions<D> x = model.X + state.u.reshaped(D, n);
+  const auto& pairs = contacts_->pairs();
+  // Per slave node: its tributary area (a share 1/D of each of its slave
+  // facets, now; 2D: × the body's thickness) and its signed gap to the
+  // master facet the search finds (NaN out of reach).
+  io::VtuField gap{"contact_gap", 1, std::vector<double>(n, nan)}, status{"contact_status", 1, std::vector<double>(n, nan)};
+  std::vector<double> area(n, 0.0);
+  for (const auto& pair : pairs) {
+    contact::ContactPair<D> moved = pair;  // the pair's own tree is at the last search's positions
+    moved.refit(x);
+    const std::vector<Vec<D>> normals = contact::node_normals<D>(moved.slave, x);
+    const double thickness = D == 2 ? model.bodies[pair.slave.body].thickness : 1.0;
+    for (std::size_t i = 0; i < moved.slave.nodes.size(); ++i) {
+      const int s = moved.slave.nodes[i];
+      double a = 0.0;
+      for (int f : moved.slave.node_facets[i]) a += facet_measure<D>(moved.slave, f, x) / D;
+      if (area[s] == 0.0) area[s] = a * thickness;
+      const auto match = contact::find_master<D>(x.col(s), moved.master, moved.tree, x, moved.search, normals[i],
+                                                 &moved.frames);
+      if (match && !(std::abs(gap.values[s]) <= std::abs(match->projection.gap))) gap.values[s] = match->projection.gap;
+      if (std::isnan(status.values[s])) status.values[s] = 0.0;  // open
+    }
+  }
+  // Normal contact force f_N on active slaves [N] and its pressure [Pa];
+  // NaN elsewhere, so that ParaView shows the active set by colour. A
+  // slave holding two constraints shows the magnitude of f₁n₁ + f₂n₂,
+  // signed as their sum. Status: 1 sliding (frictionless), 2 stuck.
+  io::VtuField force{"contact_normal_force", 1, std::vector<double>(n, nan)},
+      pressure{"contact_pressure", 1, std::vector<double>(n, nan)};
   std::map<int, std::pair<Vec<D>, double>> total;  // per slave: Σ f n, Σ f
   for (const auto& c : contacts_->contact_forces()) {
     auto& [vector, sum] = total.try_emplace(c.slave, Vec<D>::Zero(), 0.0).first->second;
     vector += c.normal * c.direction;
     sum += c.normal;
+    status.values[c.slave] = pairs[c.pair].kind == contact::Kind::stick ? 2.0 : 1.0;
   }
-  for (const auto& [slave, t] : total) f.values[slave] = std::copysign(t.first.norm(), t.second);
-  return f;
+  for (const auto& [slave, t] : total) {
+    force.values[slave] = std::copysign(t.first.norm(), t.second);
+    if (area[slave] > 0.0) pressure.values[slave] = force.values[slave] / area[slave];
+  }
+  grid.point_data.push_back(std::move(force));
+  grid.point_data.push_back(std::move(pressure));
+  grid.point_data.push_back(std::move(gap));
+  grid.point_data.push_back(std::move(status));
 }
 
 // The slaves' contact state as the search sees it now (debugging output).

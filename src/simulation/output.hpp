@@ -17,20 +17,22 @@
 namespace conserve::simulation {
 
 /// Column names of history.csv, in order: the totals, then each body's
-/// linear momentum "L_x:NAME", "L_y:NAME", "L_z:NAME". A NaN value (e.g.
-/// min_active_gap with no active slave) is written as an empty field.
-std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {});
+/// linear momentum "L_x:NAME", "L_y:NAME", "L_z:NAME", then each contact
+/// pair's force on its slave side "F_x:SLAVE>MASTER", … (surfaces as
+/// "body:group"). A NaN value (e.g. min_active_gap with no active slave)
+/// is written as an empty field.
+std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {},
+                                         const std::vector<std::string>& pair_names = {});
 
 template <int D>
 class OutputWriter {
  public:
-  /// Creates `directory` (and vtu/ in it when vtu_every > 0). `contacts`
-  /// (may be null) adds the contact columns' values and the VTU field
-  /// contact_normal_force.
-  /// `resume_time`: a restart at that time [s] keeps solution.pvd's
-  /// earlier entries.
-  OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory, int vtu_every,
-               contact::Method<D>* contacts = nullptr, bool contact_state = false,
+  /// Creates `directory` (and vtu/ in it when spec.vtu_every > 0).
+  /// `contacts` (may be null) adds the contact columns' values and the
+  /// slaves' VTU fields. `resume_time`: a restart at that time [s] keeps
+  /// solution.pvd's earlier entries.
+  OutputWriter(const assembly::Assembler<D>& assembler, const std::filesystem::path& directory,
+               const io::OutputSpec& spec, contact::Method<D>* contacts = nullptr,
                std::optional<double> resume_time = std::nullopt);
 
   /// Appends the history row of `state` (figures: what the step that
@@ -42,10 +44,15 @@ class OutputWriter {
   void write_snapshot(const model::State& state) {
     if (pvd_) write_vtu(state);
   }
+  /// VTU frames written and their bytes.
+  [[nodiscard]] std::int64_t frames() const { return frames_; }
+  [[nodiscard]] std::uintmax_t frame_bytes() const { return frame_bytes_; }
 
  private:
   void write_vtu(const model::State& state);
-  [[nodiscard]] io::VtuField contact_field(int num_nodes) const;
+  /// The slaves' fields: contact_normal_force, contact_pressure,
+  /// contact_gap, contact_status.
+  void add_contact_fields(const model::State& state, io::VtuGrid& grid) const;
   void write_contact_state(const model::State& state) const;
   const assembly::Assembler<D>& assembler_;
   /// The facets of the bodies without cells (bare rigid surfaces), D × n,
@@ -56,6 +63,9 @@ class OutputWriter {
   bool contact_state_;
   std::filesystem::path directory_;
   int vtu_every_;
+  io::VtuFormat format_;
+  std::int64_t frames_ = 0;
+  std::uintmax_t frame_bytes_ = 0;
   io::HistoryWriter history_;
   std::unique_ptr<io::PvdWriter> pvd_;
 };

@@ -79,8 +79,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const RunOrigin origin = run_origin(sc, started);  // reads the mesh files: before anything is written
   summary.earlier_files_removed =
       clear_earlier_run(dir, options.restart ? std::optional<std::int64_t>(state.step) : std::nullopt);
-  OutputWriter<D> output(assembler, dir, sc.output.vtu_every, contact,
-                         sc.output.contact_state, options.restart ? std::optional<double>(state.time) : std::nullopt);
+  OutputWriter<D> output(assembler, dir, sc.output, contact,
+                         options.restart ? std::optional<double>(state.time) : std::nullopt);
   io::write_atomically(dir / "scenario.toml", sc.text);
   io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
   std::ofstream cutback_log(dir / "cutbacks.log", state.step > 0 ? std::ios::app : std::ios::trunc);
@@ -170,6 +170,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.fewest_threads = stepper.threads().fewest();
   summary.most_threads = stepper.threads().most();
   summary.wall_seconds = progress.elapsed();
+  summary.vtu_frames = output.frames();
+  summary.vtu_bytes = output.frame_bytes();
   summary.timings = integrator.timings();
   summary.linear_solver = integrator.linear_solver().name();
   if (contact) {

@@ -55,6 +55,8 @@ Json figures(const RunSummary& s, int unknowns) {
                 {"fewest", s.fewest_threads},
                 {"most", s.most_threads}}},
               {"cutbacks", s.cutbacks},
+              {"vtu_frames", s.vtu_frames},
+              {"vtu_bytes", s.vtu_bytes},
               {"min_dt", s.min_dt},
               {"drift_reference",
                {{"energy", s.energy_reference},

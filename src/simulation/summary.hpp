@@ -39,6 +39,8 @@ struct RunSummary {
   std::string contact_method;
   std::vector<std::pair<std::string, double>> contact_settings;
   double output_seconds = 0.0;  ///< writing history and VTU files
+  std::int64_t vtu_frames = 0;  ///< VTU files written by this invocation
+  std::uintmax_t vtu_bytes = 0;  ///< their size [bytes]
   std::int64_t cutbacks = 0;    ///< failed step attempts retried with Δt halved
   /// The assembly's threads: why (assembly::ThreadGovernor::policy), and
   /// the fewest and most used.

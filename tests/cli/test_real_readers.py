@@ -87,17 +87,21 @@ class RealReaders(unittest.TestCase):
         self.assertEqual(len(types), types.count(surface_type) + types.count(volume_type))
         cells = grid.GetCellData()
         body_field = cells.GetArray("body")
-        stress = cells.GetArray("cauchy_stress")
+        stress = cells.GetArray("stress")
+        mises = cells.GetArray("von_mises")
         energy = cells.GetArray("strain_energy_density")
-        self.assertEqual(stress.GetNumberOfComponents(), 9)
+        self.assertEqual(stress.GetNumberOfComponents(), 6)
+        self.assertEqual([stress.GetComponentName(k) for k in range(6)], ["xx", "yy", "zz", "xy", "yz", "xz"])
         for i, t in enumerate(types):
             if t == surface_type:
                 self.assertEqual(body_field.GetValue(i), body)
-                self.assertTrue(all(math.isnan(stress.GetComponent(i, k)) for k in range(9)))
+                self.assertTrue(all(math.isnan(stress.GetComponent(i, k)) for k in range(6)))
+                self.assertTrue(math.isnan(mises.GetValue(i)))
                 self.assertTrue(math.isnan(energy.GetValue(i)))
             else:
                 self.assertNotEqual(body_field.GetValue(i), body)
                 self.assertTrue(math.isfinite(energy.GetValue(i)))
+                self.assertGreaterEqual(mises.GetValue(i), 0.0)
         b_lo, b_hi = cell_bounds(grid, surface_type)
         for k in range(3):
             self.assertAlmostEqual(b_lo[k], lo[k], delta=1e-9)
@@ -147,6 +151,54 @@ class RealReaders(unittest.TestCase):
                     mesh = meshio.read(f)
                     self.assertEqual(len(mesh.cells_dict["triangle"]), 8)
                     self.assertEqual(len(mesh.cells_dict["tetra"]), grid.GetNumberOfCells() - 8)
+
+    def test_compressed_and_raw_read_back_identically(self):
+        """Every array of a frame, compressed or raw, single or double, read
+        by VTK and by meshio: the same values; the contact fields there."""
+        import numpy as np
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        with tempfile.TemporaryDirectory() as tmp:
+            arrays = {}
+            for compress in ("true", "false"):
+                for precision in ("single", "double"):
+                    folder = pathlib.Path(tmp) / f"{compress}_{precision}"
+                    folder.mkdir()
+                    out = run(folder, DISC_ON_SEGMENT.replace("[output]\n", f"[output]\ncompress = {compress}\n"
+                                                              f"precision = \"{precision}\"\n"))
+                    last = pvd_files(out)[-1][1]
+                    grid = read_vtk(last)
+                    mesh = meshio.read(last)
+                    found = {}
+                    data = grid.GetPointData()
+                    for k in range(data.GetNumberOfArrays()):
+                        name = data.GetArrayName(k)
+                        found[name] = vtk_to_numpy(data.GetArray(k))
+                        np.testing.assert_array_equal(found[name].reshape(mesh.point_data[name].shape),
+                                                      mesh.point_data[name], err_msg=name)
+                    data = grid.GetCellData()
+                    for k in range(data.GetNumberOfArrays()):
+                        name = data.GetArrayName(k)
+                        found[name] = vtk_to_numpy(data.GetArray(k))
+                        merged = np.concatenate([np.asarray(b) for b in mesh.cell_data[name]])
+                        np.testing.assert_array_equal(found[name].reshape(merged.shape), merged, err_msg=name)
+                    found["points"] = vtk_to_numpy(grid.GetPoints().GetData())
+                    self.assertEqual(found["points"].dtype, np.float64)
+                    self.assertEqual(found["displacement"].dtype, np.float32 if precision == "single" else np.float64)
+                    for name in ("contact_normal_force", "contact_pressure", "contact_gap", "contact_status"):
+                        self.assertIn(name, found)
+                    arrays[(compress, precision)] = found
+            for precision in ("single", "double"):
+                a, b = arrays[("true", precision)], arrays[("false", precision)]
+                self.assertEqual(sorted(a), sorted(b))
+                for name in a:
+                    np.testing.assert_array_equal(a[name], b[name], err_msg=name)
+            # single is double rounded to the nearest Float32
+            a, b = arrays[("true", "single")], arrays[("true", "double")]
+            for name in a:
+                if name != "points":
+                    np.testing.assert_array_equal(a[name], b[name].astype(np.float32), err_msg=name)
+            status = arrays[("true", "double")]["contact_status"]
+            self.assertTrue(np.any(status == 0.0) or np.any(status == 1.0))
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "io/history_writer.hpp"
-#include "support/base64.hpp"
+#include "support/vtu_arrays.hpp"
 #include "support/cli.hpp"
 
 namespace conserve::test {
@@ -18,6 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using test::vtu_array;
 
 /// A box above a rigid square (9 nodes, listed last) rising at 0.5 m/s.
 const std::string kBoxAndRisingSquare =
@@ -29,16 +30,7 @@ const std::string kDiscAndSlidingSegment =
 
 /// The Float64 point field `name` of a VTU file (3 values per point).
 std::vector<double> point_field(const std::string& xml, const std::string& name) {
-  const auto at = xml.find("Name=\"" + name + "\"");
-  EXPECT_NE(at, std::string::npos) << name;
-  if (at == std::string::npos) return {};
-  const auto start = xml.find('>', at) + 1;
-  const auto bytes = base64_decode(xml.substr(start, xml.find("</DataArray>", start) - start));
-  std::uint64_t size = 0;
-  std::memcpy(&size, bytes.data(), sizeof size);
-  std::vector<double> values(size / sizeof(double));
-  std::memcpy(values.data(), bytes.data() + sizeof size, size);
-  return values;
+  return vtu_array<double>(xml, "Name=\"" + name + "\"");
 }
 
 /// (time, file) of every data set of a .pvd file.
@@ -77,7 +69,7 @@ void expect_rigid_motion(const fs::path& dir, int nodes, const std::vector<doubl
 TEST(Rigid, BareSquareMovesExactlyAtItsVelocity) {
   const auto dir = scratch("rigid_square");
   write_file(dir / "rigid.toml", kBoxAndRisingSquare);
-  const CliResult r = run_cli("run rigid.toml -o result -q", dir);
+  const CliResult r = run_cli("run rigid.toml -o result -q --set output.precision=double", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("finished 20 steps"));
   expect_rigid_motion(dir / "result", 9, {0.0, 0.0, 0.5});
@@ -89,7 +81,7 @@ TEST(Rigid, BareSquareMovesExactlyAtItsVelocity) {
 TEST(Rigid, BareSegmentMovesExactlyAtItsVelocity2d) {
   const auto dir = scratch("rigid_segment");
   write_file(dir / "rigid.toml", kDiscAndSlidingSegment);
-  const CliResult r = run_cli("run rigid.toml -o result -q", dir);
+  const CliResult r = run_cli("run rigid.toml -o result -q --set output.precision=double", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expect_rigid_motion(dir / "result", 5, {0.25, 0.0});
 }

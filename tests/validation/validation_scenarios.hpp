@@ -118,6 +118,9 @@ end = {}
 directory = "{}"
 vtu_every = 10
 
+[active_set]
+scheme = "paper"
+
 [[body]]
 name = "disc"
 [body.material]

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "contact/elimination/zero_work.hpp"
 
@@ -306,9 +307,14 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
   const std::vector<double> forces = split_forces(g);
   std::vector<Constraint<D>> kept;
   normal_forces_.clear();
+  std::map<int, int> held_by;  // constraints per slave
+  for (const Constraint<D>& c : active_) ++held_by[c.slave];
   for (std::size_t j = 0; j < active_.size(); ++j) {
     Constraint<D>& c = active_[j];
     const double f_n = forces[j];
+    c.tangential_force.setZero();
+    if (c.kind == Kind::stick && held_by[c.slave] == 1)
+      c.tangential_force = g.template segment<D>(c.slave * D) - f_n * c.normal;
     if (f_n < 0.0 && !held_[c.slave]) {
       released_[c.slave] = 1;
       ++stats.releases;

@@ -135,7 +135,8 @@ std::vector<ContactForce<D>> EliminationMethod<D>::contact_forces() const {
   const auto& constraints = active_.constraints();
   const auto& normal = active_.normal_forces();
   for (std::size_t i = 0; i < constraints.size(); ++i)
-    forces.push_back({constraints[i].slave, normal[i], constraints[i].normal});
+    forces.push_back({constraints[i].slave, normal[i], constraints[i].normal, constraints[i].pair,
+                      normal[i] * constraints[i].normal + constraints[i].tangential_force});
   return forces;
 }
 

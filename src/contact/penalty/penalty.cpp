@@ -554,7 +554,10 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
     max_gap = std::isnan(max_gap) ? gap : std::max(max_gap, gap);
     // The contact force on the slave at the step's end along the
     // surface's normal there: k |g|.
-    forces_.push_back({c.slave, c.k * -gap, direction});
+    // The whole force, −∂Φ/∂x_s at the end (stick: with the spring's pull).
+    Vec<D> force = c.k * -gap * direction;
+    if (c.stick) force = -penalty::penalty_gradient<D, double>(nodes(c, x), c.k, AnchorOf<D>(c).ptr).col(0);
+    forces_.push_back({c.slave, c.k * -gap, direction, c.pair, force});
   }
   stats.releases = releases;
   stats.activations = activations;
@@ -592,6 +595,8 @@ std::string PenaltyMethod<D>::save() const {
     w.value(static_cast<std::int32_t>(f.slave));
     w.value(f.normal);
     w.doubles(f.direction.data(), D);
+    w.value(static_cast<std::int32_t>(f.pair));
+    w.doubles(f.force.data(), D);
   }
   return w.bytes();
 }
@@ -624,6 +629,9 @@ void PenaltyMethod<D>::load(const std::string& bytes, const std::string& what) {
     x.slave = r.value<std::int32_t>();
     x.normal = r.value<double>();
     r.doubles(x.direction.data(), D, "a penalty force's direction");
+    x.pair = r.value<std::int32_t>();
+    r.doubles(x.force.data(), D, "a penalty force");
+    if (x.pair < 0 || x.pair >= collisions_.size()) r.fail("a penalty force's pair is out of range");
   }
   if (!r.at_end()) r.fail("trailing bytes after the penalty couplings");
   stored_ = stored;
