@@ -249,8 +249,9 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   scenario.solver = parse_solver(top.table("solver"));
   scenario.gravity = top.table("loads").vector("gravity");
   scenario.output = parse_output(top.table("output"));
-  scenario.bodies = detail::parse_bodies(top, file);
-  scenario.boundaries = detail::parse_boundaries(top, scenario.bodies);
+  scenario.curves = detail::parse_curves(top);
+  scenario.bodies = detail::parse_bodies(top, file, scenario.curves);
+  scenario.boundaries = detail::parse_boundaries(top, scenario.bodies, scenario.curves);
   scenario.contacts = detail::parse_contacts(top, scenario.bodies);
   scenario.active_set = detail::parse_active_set(top.table("active_set"));
   return scenario;

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -56,11 +57,22 @@ struct BodySpec {
   /// u0(X) = (F0 - I)(X - c). Identity = undeformed. 2D uses the upper 2×2.
   Eigen::Matrix3d initial_deformation = Eigen::Matrix3d::Identity();
   double thickness = 1.0;  ///< out-of-plane thickness in 2D (plane strain) [m]
-  /// All degrees of freedom prescribed: u(t) = velocity·t (the body moves
-  /// rigidly; its material is not used). Only a rigid body may be a bare
-  /// surface (no cells), made by the generators `square` and `segment`; a
-  /// mesh file must hold cells (mesh/msh_reader.cpp).
+  /// All degrees of freedom prescribed (model/prescribed.hpp): the body
+  /// translates at velocity · c_v(t) and turns at angular_velocity · c_ω(t)
+  /// about `center` (its material is not used). Only a rigid body may be a
+  /// bare surface (no cells), made by the generators `square` and `segment`.
   bool rigid = false;
+  /// Rigid bodies: the point it turns about [m]; none: its bounding box's centre.
+  std::optional<Eigen::Vector3d> center;
+  std::string velocity_curve;          ///< rigid bodies: [[curve]] scaling velocity; empty: none
+  std::string angular_velocity_curve;  ///< rigid bodies: [[curve]] scaling angular_velocity; empty: none
+};
+
+/// A load curve: piecewise linear through `points` (t strictly
+/// increasing), constant beyond the first and the last.
+struct CurveSpec {
+  std::string name;
+  std::vector<std::pair<double, double>> points;  ///< (t [s], value)
 };
 
 /// How a penalty force is evaluated in the step.
@@ -105,14 +117,15 @@ struct ActiveSetSpec {
   bool locate_releases = false;
 };
 
-/// Prescribed displacement on a node set: u_i(t) = value_i + rate_i t for
-/// each listed component i.
+/// Prescribed displacement on a node set: u_i(t) = value_i c(t) + rate_i t
+/// for each listed component i (c = 1 without a curve).
 struct BoundarySpec {
   std::string body;                                 ///< body name
   std::string group;                                ///< facet group of the body's mesh, or "all" (every node)
   std::vector<int> components;                      ///< prescribed components, 0 = x, 1 = y, 2 = z
   Eigen::Vector3d value = Eigen::Vector3d::Zero();  ///< [m]
   Eigen::Vector3d rate = Eigen::Vector3d::Zero();   ///< [m/s]
+  std::string curve;                                ///< [[curve]] scaling value; empty: none
 };
 
 struct TimeSpec {
@@ -171,6 +184,7 @@ struct Scenario {
   std::vector<BodySpec> bodies;
   std::vector<BoundarySpec> boundaries;
   std::vector<ContactSpec> contacts;
+  std::vector<CurveSpec> curves;
   ActiveSetSpec active_set;
   OutputSpec output;
 };

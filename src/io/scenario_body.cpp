@@ -91,12 +91,19 @@ double parse_thickness(const Section& s) {
   return s.number("thickness");
 }
 
-/// A rigid body only translates: it takes no spin and no initial deformation.
+/// A rigid body moves as prescribed: it takes no initial deformation.
 void reject_on_rigid_body(const Section& s, std::string_view key) {
   if (s.has(key)) {
     s.fail(key, "is not allowed on a rigid body",
-           fmt::format("no {} with rigid = true: a rigid body translates at its constant velocity", key));
+           fmt::format("no {} with rigid = true: a rigid body moves as its velocity and angular velocity say", key));
   }
+}
+
+/// The keys of a prescribed rigid motion, on a deformable body.
+void reject_on_deformable_body(const Section& s, std::string_view key) {
+  if (s.has(key))
+    s.fail(key, "is only allowed on a rigid body",
+           fmt::format("no {} without rigid = true (a deformable body's velocity is its initial one)", key));
 }
 
 /// The material: required for a deformable body, optional (but validated)
@@ -109,14 +116,19 @@ MaterialSpec parse_body_material(const Section& s, bool rigid) {
   return parse_material(s.table("material"));
 }
 
-BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file) {
+BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file,
+                    const std::vector<CurveSpec>& curves) {
   BodySpec body;
   body.name = s.string("name");
   check_name(s, "name", body.name);
   body.rigid = s.boolean("rigid");
   if (body.rigid) {
-    reject_on_rigid_body(s, "angular_velocity");
     reject_on_rigid_body(s, "initial_deformation");
+    if (s.has("center")) body.center = s.vector("center");
+    body.velocity_curve = curve_name(s, "velocity_curve", curves);
+    body.angular_velocity_curve = curve_name(s, "angular_velocity_curve", curves);
+  } else {
+    for (const char* key : {"center", "velocity_curve", "angular_velocity_curve"}) reject_on_deformable_body(s, key);
   }
   body.translate = s.vector("translate");
   body.velocity = s.vector("velocity");
@@ -128,7 +140,8 @@ BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file
   return body;
 }
 
-BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodies) {
+BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodies,
+                            const std::vector<CurveSpec>& curves) {
   BoundarySpec boundary;
   boundary.body = s.string("body");
   check_name(s, "body", boundary.body);
@@ -143,6 +156,7 @@ BoundarySpec parse_boundary(const Section& s, const std::vector<BodySpec>& bodie
   boundary.components = s.components("components");
   boundary.value = s.vector("value");
   boundary.rate = s.vector("rate");
+  boundary.curve = curve_name(s, "curve", curves);
   return boundary;
 }
 
@@ -164,7 +178,35 @@ std::string body_names(const std::vector<BodySpec>& bodies) {
   return names;
 }
 
-std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::path& scenario_file) {
+std::string curve_name(const Section& s, std::string_view key, const std::vector<CurveSpec>& curves) {
+  if (!s.has(key)) return {};
+  const std::string name = s.string(key);
+  std::string names;
+  for (const CurveSpec& c : curves) {
+    if (c.name == name) return name;
+    names += (names.empty() ? "" : ", ") + c.name;
+  }
+  s.fail(key, fmt::format("no [[curve]] named '{}'", name),
+         names.empty() ? std::string("a [[curve]] table with that name") : "one of: " + names);
+}
+
+std::vector<CurveSpec> parse_curves(const Section& top) {
+  std::vector<CurveSpec> curves;
+  for (const Section& table : top.table_array("curve")) {
+    CurveSpec curve;
+    curve.name = table.string("name");
+    check_name(table, "name", curve.name);
+    for (const CurveSpec& earlier : curves)
+      if (earlier.name == curve.name)
+        table.fail("name", fmt::format("duplicate curve name '{}'", curve.name), "a name no other [[curve]] has");
+    curve.points = table.points("points");
+    curves.push_back(std::move(curve));
+  }
+  return curves;
+}
+
+std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::path& scenario_file,
+                                   const std::vector<CurveSpec>& curves) {
   std::vector<BodySpec> bodies;
   const auto tables = top.table_array("body");
   for (std::size_t i = 0; i < tables.size(); ++i) {
@@ -174,14 +216,15 @@ std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::pa
       tables[i].fail("name", fmt::format("duplicate body name '{}'", name),
                      fmt::format("a name not used by body[{}]", earlier - bodies.begin()));
     }
-    bodies.push_back(parse_body(tables[i], scenario_file));
+    bodies.push_back(parse_body(tables[i], scenario_file, curves));
   }
   return bodies;
 }
 
-std::vector<BoundarySpec> parse_boundaries(const Section& top, const std::vector<BodySpec>& bodies) {
+std::vector<BoundarySpec> parse_boundaries(const Section& top, const std::vector<BodySpec>& bodies,
+                                           const std::vector<CurveSpec>& curves) {
   std::vector<BoundarySpec> boundaries;
-  for (const auto& table : top.table_array("boundary")) boundaries.push_back(parse_boundary(table, bodies));
+  for (const auto& table : top.table_array("boundary")) boundaries.push_back(parse_boundary(table, bodies, curves));
   return boundaries;
 }
 

@@ -38,6 +38,8 @@ std::string_view type_name(KeyType type) {
       return "number (2D) or array of 3 numbers (3D)";
     case KeyType::matrix:
       return "array of arrays of numbers";
+    case KeyType::points:
+      return "array of [t, value] pairs";
     case KeyType::components:
       return "array of strings";
     case KeyType::table:

@@ -35,6 +35,9 @@ SectionSpec top_level() {
                .type = KeyType::table_array,
                .doc = "prescribed displacements, one [[boundary]] table each"},
               {.name = "contact", .type = KeyType::table_array, .doc = "contact pairs, one [[contact]] table each"},
+              {.name = "curve",
+               .type = KeyType::table_array,
+               .doc = "load curves, one [[curve]] table each, named by rigid bodies, [[boundary]] and [loads]"},
               {.name = "active_set", .type = KeyType::table, .doc = "contact active-set control, see [active_set]"},
           }};
 }
@@ -243,8 +246,9 @@ SectionSpec body_section() {
               {.name = "rigid",
                .type = KeyType::boolean,
                .default_value = "false",
-               .doc = "all degrees of freedom prescribed, u(t) = velocity · t: the body translates rigidly at its "
-                      "constant `velocity`; no `angular_velocity`, `initial_deformation` or [[boundary]]; "
+               .doc = "all degrees of freedom prescribed: the body moves rigidly, translating at `velocity` and "
+                      "turning at `angular_velocity` about `center`, each rate scaled by its curve if given "
+                      "(docs/user-guide.md, \"Rigid bodies\"); no `initial_deformation` or [[boundary]]; "
                       "`material` optional; its mesh may be a bare surface (`square`, `segment`)"},
               {.name = "translate",
                .type = KeyType::vector,
@@ -260,7 +264,21 @@ SectionSpec body_section() {
                .type = KeyType::angular_velocity,
                .default_value = "zeros",
                .unit = "rad/s",
-               .doc = "initial rigid rotation about the centre of mass: 3 numbers in 3D, one number (about z) in 2D"},
+               .doc = "initial rigid rotation about the centre of mass (a rigid body: its rotation rate about "
+                      "`center`, the axis fixed): 3 numbers in 3D, one number (about z) in 2D"},
+              {.name = "center",
+               .type = KeyType::vector,
+               .default_value = "the centre of the body's bounding box",
+               .unit = "m",
+               .doc = "rigid bodies: the point the body turns about (it moves with the body's translation), "
+                      "`dimension` numbers"},
+              {.name = "velocity_curve",
+               .type = KeyType::string,
+               .doc = "rigid bodies: a [[curve]] c(t) scaling `velocity`: v(t) = velocity · c(t), so that the "
+                      "body can start, stop and reverse"},
+              {.name = "angular_velocity_curve",
+               .type = KeyType::string,
+               .doc = "rigid bodies: a [[curve]] scaling `angular_velocity`: ω(t) = angular_velocity · c(t)"},
               {.name = "initial_deformation",
                .type = KeyType::matrix,
                .default_value = "identity",
@@ -347,6 +365,26 @@ SectionSpec boundary_section() {
                .default_value = "zeros",
                .unit = "m/s",
                .doc = "displacement rate, `dimension` numbers"},
+              {.name = "curve",
+               .type = KeyType::string,
+               .doc = "a [[curve]] c(t) scaling `value`: u_i(t) = value_i · c(t) + rate_i · t"},
+          }};
+}
+
+SectionSpec curve_section() {
+  return {.name = "curve",
+          .doc = "A load curve: piecewise linear through its points, constant beyond the first and the last; "
+                 "repeat [[curve]] for each. A curve scales a rigid body's rates, a [[boundary]]'s value or "
+                 "a load.",
+          .keys = {
+              {.name = "name",
+               .type = KeyType::string,
+               .required = true,
+               .doc = "unique name, used by the keys that take a curve; a name as for [[body]] `name`"},
+              {.name = "points",
+               .type = KeyType::points,
+               .required = true,
+               .doc = "[[t, value], …]: at least two points, t [s] strictly increasing"},
           }};
 }
 
@@ -455,6 +493,7 @@ const std::vector<SectionSpec>& scenario_sections() {
   static const std::vector<SectionSpec> sections = {
       top_level(),        time_section(), newton_section(),   solver_section(),  loads_section(),   output_section(),     body_section(),
       material_section(), mesh_section(), boundary_section(), contact_section(), active_set_section(),
+      curve_section(),
   };
   return sections;
 }

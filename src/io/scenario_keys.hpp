@@ -20,6 +20,7 @@ enum class KeyType {
   vector,            ///< an array of `dimension` numbers
   angular_velocity,  ///< 3D: an array of 3 numbers; 2D: one number (about z)
   matrix,            ///< `dimension` rows, each an array of `dimension` numbers
+  points,            ///< an array of [t, value] pairs, t strictly increasing
   components,        ///< a non-empty array of distinct "x", "y" (, "z" in 3D)
   table,             ///< a sub-table (its own SectionSpec)
   table_array,       ///< an array of tables, [[name]] (its own SectionSpec)

@@ -22,12 +22,21 @@ const BodySpec* find_body(const std::vector<BodySpec>& bodies, std::string_view 
 /// "a, b, c": the body names, for messages.
 std::string body_names(const std::vector<BodySpec>& bodies);
 
-/// All [[body]] tables of the top level; names are unique.
-std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::path& scenario_file);
+/// All [[curve]] tables of the top level; names are unique.
+std::vector<CurveSpec> parse_curves(const Section& top);
+
+/// All [[body]] tables of the top level; names are unique, curves named
+/// are among `curves`.
+std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::path& scenario_file,
+                                   const std::vector<CurveSpec>& curves);
 
 /// All [[boundary]] tables of the top level; each names one of `bodies`,
-/// not a rigid one.
-std::vector<BoundarySpec> parse_boundaries(const Section& top, const std::vector<BodySpec>& bodies);
+/// not a rigid one, and a curve among `curves` if any.
+std::vector<BoundarySpec> parse_boundaries(const Section& top, const std::vector<BodySpec>& bodies,
+                                           const std::vector<CurveSpec>& curves);
+
+/// The curve key `key` of `s` (empty if absent): fails unless it names one of `curves`.
+std::string curve_name(const Section& s, std::string_view key, const std::vector<CurveSpec>& curves);
 
 /// All [[contact]] tables of the top level (scenario_contact.cpp).
 std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<BodySpec>& bodies);

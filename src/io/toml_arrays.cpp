@@ -75,6 +75,26 @@ Eigen::Matrix3d Section::matrix(std::string_view key) const {
   return result;
 }
 
+std::vector<std::pair<double, double>> Section::points(std::string_view key) const {
+  std::vector<std::pair<double, double>> result;
+  const auto* node = find(key);
+  if (!node) return result;
+  const auto expected = describe(spec_of(key), ctx_->dimension);
+  const auto* rows = node->as_array();
+  if (!rows) fail(key, fmt::format("got {}", type_of(*node)), expected);
+  if (rows->size() < 2) fail(key, fmt::format("has {} point(s)", rows->size()), expected);
+  for (std::size_t i = 0; i < rows->size(); ++i) {
+    const auto row_path = fmt::format("{}[{}]", path(key), i);
+    const auto pair = numbers(*rows->get(i), row_path, 2, "an array of 2 numbers [t, value]");
+    if (!result.empty() && !(pair[0] > result.back().first))
+      detail::fail(*ctx_, *rows->get(i), row_path,
+                   fmt::format("time {} does not come after {} (point {})", pair[0], result.back().first, i - 1),
+                   "times that strictly increase");
+    result.emplace_back(pair[0], pair[1]);
+  }
+  return result;
+}
+
 std::vector<int> Section::components(std::string_view key) const {
   const int dim = ctx_->dimension;
   const auto* node = find(key);

@@ -100,6 +100,8 @@ std::string describe(const KeySpec& key, int dimension) {
       return dimension == 3 ? "an array of 3 numbers" + unit : "one number" + unit + ", the rotation about z in 2D";
     case KeyType::matrix:
       return fmt::format("{0} rows, each an array of {0} numbers", dimension);
+    case KeyType::points:
+      return "an array of at least two [t, value] pairs of numbers, t [s] strictly increasing";
     case KeyType::components:
       return dimension == 3 ? "a non-empty array of distinct strings out of x, y, z"
                             : "a non-empty array of distinct strings out of x, y";

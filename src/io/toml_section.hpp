@@ -75,6 +75,8 @@ class Section {
   [[nodiscard]] Eigen::Vector3d angular_velocity(std::string_view key) const;
   /// dimension × dimension rows, embedded in the identity; identity if absent.
   [[nodiscard]] Eigen::Matrix3d matrix(std::string_view key) const;
+  /// The [t, value] pairs of a points key, t strictly increasing; empty if absent.
+  [[nodiscard]] std::vector<std::pair<double, double>> points(std::string_view key) const;
   /// Sorted component indices; all of the dimension if absent.
   [[nodiscard]] std::vector<int> components(std::string_view key) const;
   /// The sub-table `key`; an empty one if absent, so that the declared

@@ -11,6 +11,7 @@
 
 #include "material/law.hpp"
 #include "mesh/mesh.hpp"
+#include "model/prescribed.hpp"
 
 namespace conserve::model {
 
@@ -28,12 +29,6 @@ struct Body {
   double thickness = 1.0;  ///< out-of-plane size in 2D [m] (1 in 3D)
 };
 
-/// Prescribed displacement components: u[dofs[i]](t) = value[i] + rate[i]·t.
-struct Prescribed {
-  std::vector<int> dofs;
-  std::vector<double> value;  ///< [m]
-  std::vector<double> rate;   ///< [m/s]
-};
 
 /// Global degree of freedom of node `node`, component `i` (node-major).
 template <int D>

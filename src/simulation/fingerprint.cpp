@@ -145,7 +145,19 @@ Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& 
     h.vector(model.prescribed.dofs);
     h.vector(model.prescribed.value);
     h.vector(model.prescribed.rate);
+    h.vector(model.prescribed.curve);
+    for (const model::RigidMotion& m : model.prescribed.rigid) {
+      h.value(m.first_node);
+      h.value(m.num_nodes);
+      for (const Vec3* v : {&m.center, &m.velocity, &m.omega}) h.value(v->x()), h.value(v->y()), h.value(v->z());
+      h.value(m.velocity_curve);
+      h.value(m.omega_curve);
+    }
   });
+  for (const io::CurveSpec& c : sc.curves)
+    f.add(fmt::format("curve '{}'", c.name), fmt::format("{} points", c.points.size()), [&](Hasher& h) {
+      for (const auto& [t, value] : c.points) h.value(t), h.value(value);
+    });
   f.add("[time] step", fmt::format("{}", sc.time.step), [&](Hasher& h) { h.value(sc.time.step); });
   f.setting("[time] scheme", sc.time.scheme == io::StressScheme::midpoint ? "midpoint" : "conserving");
   f.setting("[time] mass", sc.time.mass == io::MassKind::lumped ? "lumped" : "consistent");

@@ -88,19 +88,51 @@ void add_body(const io::Scenario& scenario, std::size_t i, model::Model<D>& mode
          [&] { model::add_body<D>(model, mesh, spec.name, std::move(law), material.density, spec.thickness); });
 }
 
-/// Every dof of a rigid body: u = velocity · t.
+/// The index of curve `name` in the model's curves (−1 for none).
+int curve_index(const io::Scenario& scenario, const std::string& name) {
+  if (name.empty()) return -1;
+  for (std::size_t k = 0; k < scenario.curves.size(); ++k)
+    if (scenario.curves[k].name == name) return static_cast<int>(k);
+  throw InputError(fmt::format("{}: no [[curve]] named '{}'", scenario.file.string(), name));  // the parser checks
+}
+
+/// Every dof of a rigid body. A translation at a constant velocity is
+/// u = velocity · t exactly; a turning or curve-driven body follows its
+/// rigid motion (model/prescribed.hpp).
 template <int D>
-void prescribe_rigid(const io::BodySpec& spec, const model::Body& body, model::Prescribed& prescribed) {
+void prescribe_rigid(const io::Scenario& scenario, const io::BodySpec& spec, const model::Body& body,
+                     const model::Model<D>& model, model::Prescribed& prescribed) {
+  const bool plain = spec.angular_velocity.isZero() && spec.velocity_curve.empty() && spec.angular_velocity_curve.empty();
   for (int n = body.first_node; n < body.first_node + body.num_nodes; ++n)
     for (int k = 0; k < D; ++k) {
       prescribed.dofs.push_back(model::dof<D>(n, k));
       prescribed.value.push_back(0.0);
-      prescribed.rate.push_back(spec.velocity[k]);
+      prescribed.rate.push_back(plain ? spec.velocity[k] : 0.0);
+      prescribed.curve.push_back(-1);
     }
+  if (plain) return;
+  model::RigidMotion m{.first_node = body.first_node, .num_nodes = body.num_nodes};
+  if (spec.center) {
+    m.center = *spec.center;
+  } else if (body.num_nodes > 0) {
+    const auto X = model.X.middleCols(body.first_node, body.num_nodes);
+    m.center.head<D>() = 0.5 * (X.rowwise().minCoeff() + X.rowwise().maxCoeff());
+  }
+  if constexpr (D == 2) m.center.z() = 0.0;
+  m.velocity = spec.velocity;
+  m.omega = D == 3 ? spec.angular_velocity : Vec3(0.0, 0.0, spec.angular_velocity.z());
+  m.velocity_curve = curve_index(scenario, spec.velocity_curve);
+  m.omega_curve = curve_index(scenario, spec.angular_velocity_curve);
+  prescribed.rigid.push_back(m);
 }
 
 template <int D>
 void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
+  for (const io::CurveSpec& c : scenario.curves) {
+    model::Curve curve;
+    for (const auto& [t, value] : c.points) curve.t.push_back(t), curve.value.push_back(value);
+    model.prescribed.curves.push_back(std::move(curve));
+  }
   std::set<int> seen;
   const auto where = [&](std::size_t i, std::string_view key) {
     return scenario.sources.locate(fmt::format("boundary[{}].{}", i, key));
@@ -131,10 +163,12 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
         model.prescribed.dofs.push_back(d);
         model.prescribed.value.push_back(bc.value[k]);
         model.prescribed.rate.push_back(bc.rate[k]);
+        model.prescribed.curve.push_back(curve_index(scenario, bc.curve));
       }
   }
   for (std::size_t i = 0; i < scenario.bodies.size(); ++i)
-    if (scenario.bodies[i].rigid) prescribe_rigid<D>(scenario.bodies[i], model.bodies[i], model.prescribed);
+    if (scenario.bodies[i].rigid)
+      prescribe_rigid<D>(scenario, scenario.bodies[i], model.bodies[i], model, model.prescribed);
 }
 
 template <int D>
@@ -303,7 +337,7 @@ Problem<D> setup(const io::Scenario& scenario) {
     model::set_initial_motion<D>(p.model, static_cast<int>(i),
                                  {spec.initial_deformation, spec.velocity, spec.angular_velocity}, p.initial);
   }
-  time::apply_prescribed(p.model.prescribed, 0.0, p.initial.u, &p.initial.v);
+  model::apply_prescribed<D>(p.model.prescribed, p.model.X, 0.0, p.initial.u, &p.initial.v);
   check_overlaps<D>(scenario, p.model, p.initial.u);
   return p;
 }

@@ -9,13 +9,6 @@
 
 namespace conserve::time {
 
-void apply_prescribed(const model::Prescribed& p, double t, Eigen::VectorXd& u, Eigen::VectorXd* v) {
-  for (std::size_t i = 0; i < p.dofs.size(); ++i) {
-    u[p.dofs[i]] = p.value[i] + p.rate[i] * t;
-    if (v) (*v)[p.dofs[i]] = p.rate[i];
-  }
-}
-
 template <int D>
 Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressScheme scheme,
                           solver::NewtonSettings newton, contact::Method<D>* contact, int max_passes,
@@ -57,7 +50,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   const bool retry = interrupted_.step == state.step && dt < interrupted_.dt;
   if (retry) u_np1 += (dt / interrupted_.dt) * interrupted_.correction;
   interrupted_.step = -1;
-  apply_prescribed(assembler_.model().prescribed, t_np1, u_np1);
+  model::apply_prescribed<D>(assembler_.model().prescribed, assembler_.model().X, t_np1, u_np1);
   stats_ = {};
   for (const auto& term : terms_) term->begin(state, dt);
   if (contact_) contact_->begin_step(state.step + 1, dt, state);
@@ -126,6 +119,11 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   }
   check_orientation(u_np1, state.step + 1, t_np1);
   if (v_np1.size() == 0) v_np1 = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
+  // Prescribed dofs move as prescribed, with their exact velocity (for a
+  // turning or curve-driven motion (19) would oscillate about it).
+  const model::Model<D>& m = assembler_.model();
+  if (!m.prescribed.rigid.empty() || !m.prescribed.curves.empty())
+    model::apply_prescribed<D>(m.prescribed, m.X, t_np1, u_np1, &v_np1);
   if (contact_) {
     solver::ScopedTimer timer(timings_.contact_search);
     contact_->finish_step(state.u, u_np1, v_np1, stats_);

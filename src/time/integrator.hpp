@@ -104,7 +104,4 @@ class Integrator {
   [[nodiscard]] Eigen::VectorXd predictor(const model::State& state, double dt) const;
 };
 
-/// Puts the prescribed values u(t) on `u` and the rates on `v` (if given).
-void apply_prescribed(const model::Prescribed& prescribed, double t, Eigen::VectorXd& u, Eigen::VectorXd* v = nullptr);
-
 }  // namespace conserve::time

@@ -112,10 +112,9 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return text.replace(at, from.size(), to);
 }
 
-TEST(Rigid, RigidBodyWithAngularVelocityIsRejected) {
-  expect_check_fails("rigid_spin",
-                     replaced(kBoxAndRisingSquare, "rigid = true\n", "rigid = true\nangular_velocity = [0, 0, 1]\n"),
-                     "scenario.toml:28: body[1].angular_velocity: is not allowed on a rigid body");
+TEST(Rigid, DeformableBodyWithACenterIsRejected) {
+  expect_check_fails("rigid_center", replaced(kBoxAndRisingSquare, "name = \"box\"\n", "name = \"box\"\ncenter = [0, 0, 0]\n"),
+                     "body[0].center: is only allowed on a rigid body");
 }
 
 TEST(Rigid, CellLessDeformableBodyIsRejected) {

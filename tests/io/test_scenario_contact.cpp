@@ -2,6 +2,8 @@
 /// defaults, and one test per validation rule with FILE:LINE and key path.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "scenario_test_support.hpp"
 
 namespace conserve::io {
@@ -70,11 +72,45 @@ TEST(ScenarioRigid, RigidMustBeABoolean) {
   EXPECT_TRUE(fails_with(text, 14, "body[1].rigid", "got an integer (expected true or false)"));
 }
 
-TEST(ScenarioRigid, NoSpinOrInitialDeformationOnARigidBody) {
-  EXPECT_TRUE(fails_with(two_bodies("", "angular_velocity = [0, 0, 1]\n"), 16, "body[1].angular_velocity",
-                         "is not allowed on a rigid body (expected no angular_velocity with rigid = true"));
+TEST(ScenarioRigid, NoInitialDeformationOnARigidBody) {
   EXPECT_TRUE(fails_with(two_bodies("", "initial_deformation = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n"), 16,
                          "body[1].initial_deformation", "is not allowed on a rigid body"));
+}
+
+// A rigid body turns about its centre, each rate scaled by a curve.
+TEST(ScenarioRigid, PrescribedMotionWithCurves) {
+  const auto s = parse_scenario(
+      two_bodies("[[curve]]\nname = \"ramp\"\npoints = [[0, 0], [0.5, 1], [1, 1]]\n",
+                 "angular_velocity = [0, 0, 2]\ncenter = [0, 0, 1]\nangular_velocity_curve = \"ramp\"\n"),
+      case_file());
+  const BodySpec& plane = s.bodies[1];
+  EXPECT_EQ(plane.angular_velocity, Eigen::Vector3d(0, 0, 2));
+  ASSERT_TRUE(plane.center.has_value());
+  EXPECT_EQ(*plane.center, Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(plane.angular_velocity_curve, "ramp");
+  EXPECT_TRUE(plane.velocity_curve.empty());
+  ASSERT_EQ(s.curves.size(), 1u);
+  EXPECT_EQ(s.curves[0].points.size(), 3u);
+  EXPECT_EQ(s.curves[0].points[1], (std::pair<double, double>(0.5, 1.0)));
+}
+
+// Curves: times must increase; a name that no [[curve]] has; the
+// motion keys on a deformable body.
+TEST(ScenarioRigid, CurveErrors) {
+  EXPECT_TRUE(fails_with(two_bodies("[[curve]]\nname = \"c\"\npoints = [[0, 0], [0.5, 1], [0.2, 1]]\n"), 23,
+                         "curve[0].points[2]",
+                         "time 0.2 does not come after 0.5 (point 1) (expected times that strictly increase)"));
+  EXPECT_TRUE(fails_with(two_bodies("[[curve]]\nname = \"c\"\npoints = [[0, 0]]\n"), 23, "curve[0].points",
+                         "has 1 point(s)"));
+  EXPECT_TRUE(fails_with(two_bodies("", "velocity_curve = \"nope\"\n"), 16, "body[1].velocity_curve",
+                         "no [[curve]] named 'nope' (expected a [[curve]] table with that name)"));
+  EXPECT_TRUE(fails_with(two_bodies("[[curve]]\nname = \"c\"\npoints = [[0, 0], [1, 1]]\n[[curve]]\nname = \"c\"\n"
+                                    "points = [[0, 0], [1, 1]]\n"),
+                         25, "curve[1].name", "duplicate curve name 'c'"));
+  std::string deformable = two_bodies("[[curve]]\nname = \"c\"\npoints = [[0, 0], [1, 1]]\n");
+  deformable.insert(deformable.find("name = \"a\"\n") + 11, "velocity_curve = \"c\"\n");
+  const auto line = 1 + std::count(deformable.begin(), deformable.begin() + deformable.find("velocity_curve"), '\n');
+  EXPECT_TRUE(fails_with(deformable, static_cast<int>(line), "body[0].velocity_curve", "is only allowed on a rigid body"));
 }
 
 TEST(ScenarioRigid, DeformableBodyNeedsAMaterial) {

@@ -30,7 +30,7 @@ double reduced_tangent_error(ContactRun<D>& run, const std::vector<int>* nodes =
   const auto& model = run.problem.model;
   const double dt = run.scenario.time.step;
   Eigen::VectorXd u = run.state.u + dt * run.state.v + 1e-4 * dt * run.state.v.cwiseAbs();  // off the solution
-  time::apply_prescribed(model.prescribed, run.state.time + dt, u);
+  model::apply_prescribed<D>(model.prescribed, model.X, run.state.time + dt, u);
   std::vector<contact::Constraint<D>> constraints = run.contacts->constraints();
   contact::Elimination<D> base(model.X, run.state.u, u, constraints, run.contacts->pairs());
   base.enforce(u);
@@ -95,7 +95,7 @@ double reduced_product_error(ContactRun<D>& run) {
   const auto& model = run.problem.model;
   const double dt = run.scenario.time.step;
   Eigen::VectorXd u = run.state.u + dt * run.state.v;
-  time::apply_prescribed(model.prescribed, run.state.time + dt, u);
+  model::apply_prescribed<D>(model.prescribed, model.X, run.state.time + dt, u);
   std::vector<contact::Constraint<D>> constraints = run.contacts->constraints();
   contact::Elimination<D> e(model.X, run.state.u, u, constraints, run.contacts->pairs());
   e.enforce(u);

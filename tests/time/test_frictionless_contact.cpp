@@ -49,7 +49,7 @@ TEST(FrictionlessContact, RevertRestoresTheIterateAndItsConstraints) {
   const auto& model = run.problem.model;
   const double dt = run.scenario.time.step;
   Eigen::VectorXd u = run.state.u + dt * run.state.v;
-  time::apply_prescribed(model.prescribed, run.state.time + dt, u);
+  model::apply_prescribed<3>(model.prescribed, model.X, run.state.time + dt, u);
   std::vector<contact::Constraint<3>> constraints = run.contacts->constraints();
   contact::Elimination<3> e(model.X, run.state.u, u, constraints, run.contacts->pairs());
   e.enforce(u);

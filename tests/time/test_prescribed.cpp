@@ -75,3 +75,60 @@ TEST(Prescribed, MovingSupportFollowsItsLawExactly) {
 
 }  // namespace
 }  // namespace conserve::time
+
+namespace conserve::model {
+namespace {
+
+// A curve is linear between its points and constant beyond them; its
+// integral is exact (trapezoids of the pieces).
+TEST(Curve, ValuesSlopesAndIntegral) {
+  const Curve c{{0.5, 1.0, 2.0}, {0.0, 2.0, -1.0}};
+  EXPECT_EQ(c.at(0.0), 0.0);
+  EXPECT_EQ(c.at(0.75), 1.0);
+  EXPECT_EQ(c.at(1.5), 0.5);
+  EXPECT_EQ(c.at(3.0), -1.0);
+  EXPECT_EQ(c.slope(0.75), 4.0);
+  EXPECT_EQ(c.slope(1.0), -3.0);  // the right derivative at a point
+  EXPECT_EQ(c.slope(2.5), 0.0);
+  EXPECT_DOUBLE_EQ(c.integral(0.5), 0.0);
+  EXPECT_DOUBLE_EQ(c.integral(1.0), 0.5);                  // 0.5 · 0.5 · 2
+  EXPECT_DOUBLE_EQ(c.integral(1.5), 0.5 + 0.5 * 1.25);     // + 0.5 · (2 + 0.5) / 2
+  EXPECT_DOUBLE_EQ(c.integral(3.0), 0.5 + 0.5 - 1.0);      // + 1 · (2 − 1)/2 − 1 · 1
+  const Curve early{{-1.0, 1.0}, {1.0, 3.0}};  // from before t = 0
+  EXPECT_DOUBLE_EQ(early.integral(1.0), 0.5 * (2.0 + 3.0));
+}
+
+// A rigid motion keeps every distance, turns by |ω| ∫c about its axis
+// through the moving centre, and gives each node the velocity
+// v c_v + ω c_ω × (x − c − d).
+TEST(RigidMotion, TurnsAboutItsCentreWithTheExactVelocity) {
+  Eigen::Matrix<double, 3, Eigen::Dynamic> X(3, 4);
+  X << 0, 1, 0, 0.3, 0, 0, 1, 0.2, 0, 0, 0, 1;
+  Prescribed p;
+  p.curves.push_back(Curve{{0.0, 1.0}, {0.0, 2.0}});  // c(t) = 2t on [0, 1]
+  RigidMotion m{.first_node = 0, .num_nodes = 4};
+  m.center = Vec3(0.5, 0.5, 0.0);
+  m.velocity = Vec3(1.0, 0.0, 0.0);
+  m.omega = Vec3(0.0, 0.0, 3.0);
+  m.omega_curve = 0;
+  p.rigid.push_back(m);
+  for (int d = 0; d < 12; ++d) p.dofs.push_back(d), p.value.push_back(0.0), p.rate.push_back(0.0);
+  const double t = 0.6;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(12), v = Eigen::VectorXd::Zero(12);
+  apply_prescribed<3>(p, X, t, u, &v);
+  const Eigen::Matrix<double, 3, Eigen::Dynamic> x = X + u.reshaped(3, 4);
+  const double angle = 3.0 * t * t;  // |ω| ∫_0^t 2s ds
+  const Vec3 d = m.velocity * t, c = m.center + d;
+  for (int a = 0; a < 4; ++a) {
+    for (int b = 0; b < 4; ++b) EXPECT_NEAR((x.col(a) - x.col(b)).norm(), (X.col(a) - X.col(b)).norm(), 1e-15);
+    const Vec3 r0 = X.col(a) - m.center, r = x.col(a) - c;
+    EXPECT_NEAR(r.z(), r0.z(), 1e-15);
+    EXPECT_NEAR(r.x(), std::cos(angle) * r0.x() - std::sin(angle) * r0.y(), 1e-15);
+    EXPECT_NEAR(r.y(), std::sin(angle) * r0.x() + std::cos(angle) * r0.y(), 1e-15);
+    const Vec3 velocity = m.velocity + (m.omega * 2.0 * t).cross(r);
+    EXPECT_NEAR((v.segment<3>(3 * a) - velocity).norm(), 0.0, 1e-14);
+  }
+}
+
+}  // namespace
+}  // namespace conserve::model
