@@ -103,9 +103,11 @@ struct Constraint {
   /// the end of the previous step (set by ActiveSet::begin_step).
   double normal_force = 0.0;
   double start_force = 0.0;
-  /// Stick, one constraint on the slave: the rest of g_s, g_s − f_N n [N]
-  /// (output only; not stored in checkpoints).
-  Vec<D> tangential_force = Vec<D>::Zero();
+  /// Output only (not in checkpoints), set with normal_force: the whole
+  /// force on the slave over the step, g_s (f_N n for each of a slave's
+  /// two constraints) [N], and the slave's mid-point position x_{n+½} [m].
+  Vec<D> force = Vec<D>::Zero();
+  Vec<D> mid = Vec<D>::Zero();
 };
 
 }  // namespace conserve::contact

@@ -120,17 +120,31 @@ class Coupling {
   virtual bool restore() = 0;
 };
 
-/// One contact's force on its slave node over the last step [N]: the
-/// normal part f_N along its master's normal n, and the whole vector
-/// (stick: with its tangential part).
+/// One contact's force on its slave node over the last step: the normal
+/// part f_N along its master's normal n [N], and what the master gave the
+/// slave over the step (the momentum and the work it transmitted, whose
+/// opposite a prescribed master takes: simulation/output.cpp's reactions).
 template <int D>
 struct ContactForce {
   int slave = -1;  ///< global node
   double normal = 0.0;
   Vec<D> direction = Vec<D>::Zero();
-  int pair = -1;                   ///< the contact pair (index of [[contact]])
-  Vec<D> force = Vec<D>::Zero();  ///< the force the master exerts on the slave
+  int pair = -1;                  ///< the contact pair (index of [[contact]])
+  Vec<D> force = Vec<D>::Zero();  ///< the mean force on the slave over the step [N]
+  Vec3 moment = Vec3::Zero();     ///< its moment about the origin, at the slave's mid-point position [N m]
+  double work = 0.0;              ///< its work on the slave over the step [J]
+  Vec<D> impulse = Vec<D>::Zero();  ///< an impulse at the step's end (persistent contact) [N s]
+  Vec3 impulse_moment = Vec3::Zero();  ///< its moment about the origin at the slave's end position [N m s]
 };
+
+/// a × b for D-vectors as a 3-vector (2D: along z).
+template <int D>
+Vec3 moment_of(const Vec<D>& a, const Vec<D>& b) {
+  Vec3 a3 = Vec3::Zero(), b3 = Vec3::Zero();
+  a3.template head<D>() = a;
+  b3.template head<D>() = b;
+  return a3.cross(b3);
+}
 
 template <int D>
 class Method {

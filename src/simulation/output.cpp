@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -11,7 +12,8 @@
 namespace conserve::simulation {
 
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names,
-                                         const std::vector<std::string>& pair_names) {
+                                         const std::vector<std::string>& pair_names,
+                                         const std::vector<std::string>& rigid_names) {
   std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
                                 "J_x",  "J_y",  "J_z"};
   for (const Statistic& s : statistics())
@@ -21,6 +23,11 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
   for (const auto& name : pair_names)
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("F_{}:{}", axis, name));
+  for (const auto& name : rigid_names) {
+    for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("R_{}:{}", axis, name));
+    for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("M_{}:{}", axis, name));
+    c.push_back("work:" + name);
+  }
   return c;
 }
 
@@ -29,6 +36,32 @@ template <int D>
 std::vector<std::string> body_names(const model::Model<D>& model) {
   std::vector<std::string> names;
   for (const auto& b : model.bodies) names.push_back(b.name);
+  return names;
+}
+
+/// The bodies whose surface is the rigid master of a pair, in body order,
+/// and per pair the index among them of its master (−1: not rigid).
+template <int D>
+std::vector<int> rigid_masters(contact::Method<D>* contacts, std::vector<int>& pair_rigid) {
+  std::vector<int> bodies;
+  pair_rigid.clear();
+  if (!contacts) return bodies;
+  for (const auto& p : contacts->pairs())
+    if (p.master.rigid) bodies.push_back(p.master.body);
+  std::sort(bodies.begin(), bodies.end());
+  bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+  for (const auto& p : contacts->pairs())
+    pair_rigid.push_back(p.master.rigid ? static_cast<int>(std::lower_bound(bodies.begin(), bodies.end(),
+                                                                            p.master.body) - bodies.begin())
+                                        : -1);
+  return bodies;
+}
+
+template <int D>
+std::vector<std::string> rigid_names(const model::Model<D>& model, contact::Method<D>* contacts) {
+  std::vector<int> unused;
+  std::vector<std::string> names;
+  for (int b : rigid_masters<D>(contacts, unused)) names.push_back(model.bodies[b].name);
   return names;
 }
 
@@ -86,7 +119,10 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
       directory_(prepared(directory, spec.vtu_every)),
       vtu_every_(spec.vtu_every),
       format_{.compress = spec.compress, .single_precision = spec.single_precision},
-      history_(directory / "history.csv", history_columns(body_names(assembler.model()), pair_names<D>(contacts))) {
+      history_(directory / "history.csv", history_columns(body_names(assembler.model()), pair_names<D>(contacts),
+                                                          rigid_names<D>(assembler.model(), contacts))) {
+  rigid_bodies_ = rigid_masters<D>(contacts, pair_rigid_);
+  if (resume_time) last_time_ = *resume_time;
   add_bare_surfaces<D>(assembler.model(), surface_facets_, surface_body_);
   if (spec.vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
   if (pvd_ && resume_time) pvd_->resume(*resume_time);
@@ -113,10 +149,31 @@ void OutputWriter<D>::write(const model::State& state, const StepFigures& figure
   row.insert(row.end(), {drift.energy, drift.linear, drift.angular});
   for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
   if (contacts_) {
+    // What each pair's master gave its slaves over the step, as mean
+    // forces (the persistency impulses spread over the step); a rigid
+    // master took the opposite: its reaction, moment and work.
+    const double dt = state.time - last_time_;
+    const double per_time = dt > 0.0 ? 1.0 / dt : 0.0;
     std::vector<Vec3> pair_force(contacts_->pairs().size(), Vec3::Zero());
-    for (const auto& f : contacts_->contact_forces()) pair_force.at(f.pair).template head<D>() += f.force;
+    std::vector<Vec3> reaction(rigid_bodies_.size(), Vec3::Zero()), moment = reaction;
+    std::vector<double> work(rigid_bodies_.size(), 0.0);
+    for (const auto& f : contacts_->contact_forces()) {
+      Vec3 force = Vec3::Zero();
+      force.template head<D>() = f.force + per_time * f.impulse;
+      pair_force.at(f.pair) += force;
+      if (const int r = pair_rigid_.at(f.pair); r >= 0) {
+        reaction[r] -= force;
+        moment[r] -= f.moment + per_time * f.impulse_moment;
+        work[r] += f.work;
+      }
+    }
     for (const Vec3& F : pair_force) row.insert(row.end(), {F.x(), F.y(), F.z()});
+    for (std::size_t r = 0; r < rigid_bodies_.size(); ++r) {
+      row.insert(row.end(), {reaction[r].x(), reaction[r].y(), reaction[r].z()});
+      row.insert(row.end(), {moment[r].x(), moment[r].y(), moment[r].z(), work[r]});
+    }
   }
+  last_time_ = state.time;
   history_.write_row(row);
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);
 }

@@ -312,9 +312,8 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
   for (std::size_t j = 0; j < active_.size(); ++j) {
     Constraint<D>& c = active_[j];
     const double f_n = forces[j];
-    c.tangential_force.setZero();
-    if (c.kind == Kind::stick && held_by[c.slave] == 1)
-      c.tangential_force = g.template segment<D>(c.slave * D) - f_n * c.normal;
+    c.force = held_by[c.slave] == 1 ? Vec<D>(g.template segment<D>(c.slave * D)) : Vec<D>(f_n * c.normal);
+    c.mid = x_mid.col(c.slave);
     if (f_n < 0.0 && !held_[c.slave]) {
       released_[c.slave] = 1;
       ++stats.releases;

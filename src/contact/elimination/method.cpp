@@ -103,9 +103,25 @@ template <int D>
 void EliminationMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
                                        Eigen::VectorXd& v_np1, StepContactStats& stats) {
   stats.master_penetration = active_.master_penetration(u_np1, u_n).depth;
-  if (persistent_ && !active_.constraints().empty()) {
-    const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
-    stats.velocity = persistent_->apply(active_.constraints(), active_.pairs(), x, v_np1);
+  const auto& constraints = active_.constraints();
+  const auto& normal = active_.normal_forces();
+  std::vector<Vec<D>> impulses(constraints.size(), Vec<D>::Zero());
+  const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
+  if (persistent_ && !constraints.empty())
+    stats.velocity = persistent_->apply(constraints, active_.pairs(), x, v_np1, &impulses);
+  forces_.clear();
+  for (std::size_t i = 0; i < constraints.size(); ++i) {
+    const Constraint<D>& c = constraints[i];
+    const Vec<D> step = (u_np1 - u_n).template segment<D>(c.slave * D);
+    forces_.push_back({.slave = c.slave,
+                       .normal = normal[i],
+                       .direction = c.normal,
+                       .pair = c.pair,
+                       .force = c.force,
+                       .moment = moment_of<D>(c.mid, c.force),
+                       .work = c.force.dot(step),
+                       .impulse = impulses[i],
+                       .impulse_moment = moment_of<D>(x.col(c.slave), impulses[i])});
   }
 }
 
@@ -119,6 +135,7 @@ std::string EliminationMethod<D>::save() const {
 
 template <int D>
 void EliminationMethod<D>::load(const std::string& bytes, const std::string& what) {
+  forces_.clear();
   ByteReader r(bytes, what);
   const auto count = r.value<std::uint64_t>();
   if (count > static_cast<std::uint64_t>(model_.num_nodes())) r.fail("more constraints than nodes");
@@ -129,14 +146,19 @@ void EliminationMethod<D>::load(const std::string& bytes, const std::string& wha
   active_.set_constraints(std::move(constraints));
 }
 
+// After a restart, the loaded constraints' normal forces alone (until the next step).
 template <int D>
 std::vector<ContactForce<D>> EliminationMethod<D>::contact_forces() const {
-  std::vector<ContactForce<D>> forces;
   const auto& constraints = active_.constraints();
+  if (forces_.size() == constraints.size()) return forces_;
+  std::vector<ContactForce<D>> forces;
   const auto& normal = active_.normal_forces();
   for (std::size_t i = 0; i < constraints.size(); ++i)
-    forces.push_back({constraints[i].slave, normal[i], constraints[i].normal, constraints[i].pair,
-                      normal[i] * constraints[i].normal + constraints[i].tangential_force});
+    forces.push_back({.slave = constraints[i].slave,
+                      .normal = normal[i],
+                      .direction = constraints[i].normal,
+                      .pair = constraints[i].pair,
+                      .force = normal[i] * constraints[i].normal});
   return forces;
 }
 

@@ -113,6 +113,9 @@ class EliminationMethod : public Method<D> {
   /// Takes the work of pushed-out slaves' forces back (Constraint::push).
   PersistentVelocity<D> restorer_;
   std::optional<PersistentVelocity<D>> persistent_;
+  /// The constraints' forces at the last step's end (contact_forces), in
+  /// their order, with the work and the persistency impulses of the step.
+  std::vector<ContactForce<D>> forces_;
 };
 
 }  // namespace conserve::contact

@@ -111,9 +111,11 @@ Eigen::MatrixXd PersistentVelocity<D>::rigid_modes(const Positions<D>& x) const 
 template <int D>
 VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& constraints,
                                             const std::vector<ContactPair<D>>& pairs, const Positions<D>& x,
-                                            Eigen::VectorXd& v) const {
+                                            Eigen::VectorXd& v, std::vector<Vec<D>>* impulses) const {
   VelocityUpdate out;
+  if (impulses) impulses->assign(constraints.size(), Vec<D>::Zero());
   if (constraints.empty()) return out;
+  std::vector<std::pair<std::size_t, Vec<D>>> row_of;  // per row of A: its constraint and the slave's direction
   // The rows of A: frictionless one per slave (the gap rate), stick D
   // (the relative velocity of the slave and its frozen point).
   std::vector<Eigen::Triplet<double>> rows;
@@ -122,6 +124,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
     const ContactPair<D>& pair = pairs[c.pair];
     const FacetNodes<D> xm = facet_nodes<D>(pair.master, c.facet, x);
     auto add = [&](int row, const Vec<D>& dir, const Vec<D>& N) {
+      row_of.emplace_back(static_cast<std::size_t>(&c - constraints.data()), dir);
       for (int i = 0; i < D; ++i) {
         rows.emplace_back(row, c.slave * D + i, dir(i));
         for (int b = 0; b < D; ++b) rows.emplace_back(row, c.master[b] * D + i, -N(b) * dir(i));
@@ -196,6 +199,9 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   v = v_p + *t * w;
   out.applied = true;
   out.energy_moved = dK;
+  if (impulses)
+    for (std::size_t row = 0; row < row_of.size(); ++row)
+      (*impulses)[row_of[row].first] += mu[static_cast<Eigen::Index>(row)] * row_of[row].second;
   return out;
 }
 

@@ -43,8 +43,11 @@ class PersistentVelocity {
 
   /// Updates the end-of-step velocities `v` for the active constraints at
   /// end positions `x` (see the file comment).
+  /// `impulses` (if given) receives per constraint the persistency
+  /// impulse on its slave, Σ μ a_slave [N s] (zero if not applied): what a
+  /// prescribed master takes.
   VelocityUpdate apply(const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
-                       const Positions<D>& x, Eigen::VectorXd& v) const;
+                       const Positions<D>& x, Eigen::VectorXd& v, std::vector<Vec<D>>* impulses = nullptr) const;
 
   /// Takes `energy` [J] out of the kinetic energy of `v` (gives it back if
   /// negative) by the step-2 change V = V + t w of the file comment

@@ -557,7 +557,16 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
     // The whole force, −∂Φ/∂x_s at the end (stick: with the spring's pull).
     Vec<D> force = c.k * -gap * direction;
     if (c.stick) force = -penalty::penalty_gradient<D, double>(nodes(c, x), c.k, AnchorOf<D>(c).ptr).col(0);
-    forces_.push_back({c.slave, c.k * -gap, direction, c.pair, force});
+    // (The force at the step's end: the reactions it gives a prescribed
+    // master are approximate, unlike elimination's step forces.)
+    const Vec<D> moved = (u_np1 - u_n).template segment<D>(c.slave * D);
+    forces_.push_back({.slave = c.slave,
+                       .normal = c.k * -gap,
+                       .direction = direction,
+                       .pair = c.pair,
+                       .force = force,
+                       .moment = moment_of<D>(x.col(c.slave), force),
+                       .work = force.dot(moved)});
   }
   stats.releases = releases;
   stats.activations = activations;
