@@ -252,6 +252,8 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   scenario.curves = detail::parse_curves(top);
   scenario.bodies = detail::parse_bodies(top, file, scenario.curves);
   scenario.boundaries = detail::parse_boundaries(top, scenario.bodies, scenario.curves);
+  scenario.gravity_curve = detail::curve_name(top.table("loads"), "gravity_curve", scenario.curves);
+  scenario.loads = detail::parse_loads(top, scenario.bodies, scenario.curves);
   scenario.contacts = detail::parse_contacts(top, scenario.bodies);
   scenario.active_set = detail::parse_active_set(top.table("active_set"));
   return scenario;

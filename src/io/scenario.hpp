@@ -68,6 +68,16 @@ struct BodySpec {
   std::string angular_velocity_curve;  ///< rigid bodies: [[curve]] scaling angular_velocity; empty: none
 };
 
+/// A surface load (model/loads.hpp): a nominal traction or a follower pressure.
+struct LoadSpec {
+  std::string body;
+  std::string group = "boundary";
+  bool pressure = false;                               ///< a follower pressure, else a traction
+  Eigen::Vector3d traction = Eigen::Vector3d::Zero();  ///< [Pa]
+  double pressure_value = 0.0;                         ///< [Pa]
+  std::string curve;                                   ///< [[curve]] scaling it; empty: none
+};
+
 /// A load curve: piecewise linear through `points` (t strictly
 /// increasing), constant beyond the first and the last.
 struct CurveSpec {
@@ -181,6 +191,8 @@ struct Scenario {
   NewtonSpec newton;
   SolverSpec solver;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s²]
+  std::string gravity_curve;                          ///< [[curve]] scaling gravity; empty: none
+  std::vector<LoadSpec> loads;
   std::vector<BodySpec> bodies;
   std::vector<BoundarySpec> boundaries;
   std::vector<ContactSpec> contacts;

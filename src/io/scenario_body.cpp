@@ -190,6 +190,31 @@ std::string curve_name(const Section& s, std::string_view key, const std::vector
          names.empty() ? std::string("a [[curve]] table with that name") : "one of: " + names);
 }
 
+std::vector<LoadSpec> parse_loads(const Section& top, const std::vector<BodySpec>& bodies,
+                                  const std::vector<CurveSpec>& curves) {
+  std::vector<LoadSpec> loads;
+  for (const Section& s : top.table_array("load")) {
+    LoadSpec load;
+    load.body = s.string("body");
+    check_name(s, "body", load.body);
+    const auto body = find_body(bodies, load.body);
+    if (!body) s.fail("body", fmt::format("unknown body '{}'", load.body), "one of: " + body_names(bodies));
+    if (body->rigid)
+      s.fail("body", fmt::format("body '{}' is rigid: its motion is prescribed", body->name), "a deformable body");
+    load.group = s.string("group");
+    check_name(s, "group", load.group);
+    if (s.has("traction") == s.has("pressure"))
+      s.fail_table(s.has("traction") ? "has both 'traction' and 'pressure'" : "has neither 'traction' nor 'pressure'",
+                   "exactly one of them");
+    load.pressure = s.has("pressure");
+    load.traction = s.vector("traction");
+    if (load.pressure) load.pressure_value = s.number("pressure");
+    load.curve = curve_name(s, "curve", curves);
+    loads.push_back(std::move(load));
+  }
+  return loads;
+}
+
 std::vector<CurveSpec> parse_curves(const Section& top) {
   std::vector<CurveSpec> curves;
   for (const Section& table : top.table_array("curve")) {

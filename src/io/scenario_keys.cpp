@@ -35,9 +35,11 @@ SectionSpec top_level() {
                .type = KeyType::table_array,
                .doc = "prescribed displacements, one [[boundary]] table each"},
               {.name = "contact", .type = KeyType::table_array, .doc = "contact pairs, one [[contact]] table each"},
+              {.name = "load", .type = KeyType::table_array, .doc = "surface loads, one [[load]] table each"},
               {.name = "curve",
                .type = KeyType::table_array,
-               .doc = "load curves, one [[curve]] table each, named by rigid bodies, [[boundary]] and [loads]"},
+               .doc = "load curves, one [[curve]] table each, named by rigid bodies, [[boundary]], [[load]] and "
+                      "[loads]"},
               {.name = "active_set", .type = KeyType::table, .doc = "contact active-set control, see [active_set]"},
           }};
 }
@@ -180,6 +182,38 @@ SectionSpec loads_section() {
                .default_value = "zeros",
                .unit = "m/s²",
                .doc = "gravitational acceleration, `dimension` numbers"},
+              {.name = "gravity_curve",
+               .type = KeyType::string,
+               .doc = "a [[curve]] scaling `gravity` in time; its work is then counted in history.csv's "
+                      "`load_work` instead of `potential`"},
+          }};
+}
+
+SectionSpec load_section() {
+  return {.name = "load",
+          .doc = "A surface load on a facet group of a deformable body; repeat [[load]] for each. Its work "
+                 "is in the energy balance: a constant `traction` has a potential (in `potential`), a "
+                 "`pressure` or a load with a curve does work counted in `load_work` (history.csv's "
+                 "`total` is E − load_work, which the scheme conserves).",
+          .keys = {
+              {.name = "body", .type = KeyType::string, .required = true, .doc = "name of a deformable [[body]]"},
+              {.name = "group",
+               .type = KeyType::string,
+               .default_value = "boundary",
+               .doc = "a facet group of the body's mesh on its boundary, or `boundary` (all of it)"},
+              {.name = "traction",
+               .type = KeyType::vector,
+               .unit = "Pa",
+               .doc = "nominal traction: force per reference area, fixed in direction, `dimension` numbers; "
+                      "exactly one of `traction` and `pressure`"},
+              {.name = "pressure",
+               .type = KeyType::number,
+               .unit = "Pa",
+               .doc = "follower pressure along the current inward normal (positive pushes into the body); "
+                      "exactly one of `traction` and `pressure`"},
+              {.name = "curve",
+               .type = KeyType::string,
+               .doc = "a [[curve]] scaling the load in time (taken at each step's mid-point time)"},
           }};
 }
 
@@ -493,7 +527,7 @@ const std::vector<SectionSpec>& scenario_sections() {
   static const std::vector<SectionSpec> sections = {
       top_level(),        time_section(), newton_section(),   solver_section(),  loads_section(),   output_section(),     body_section(),
       material_section(), mesh_section(), boundary_section(), contact_section(), active_set_section(),
-      curve_section(),
+      load_section(),     curve_section(),
   };
   return sections;
 }

@@ -35,6 +35,10 @@ std::vector<BodySpec> parse_bodies(const Section& top, const std::filesystem::pa
 std::vector<BoundarySpec> parse_boundaries(const Section& top, const std::vector<BodySpec>& bodies,
                                            const std::vector<CurveSpec>& curves);
 
+/// All [[load]] tables of the top level; each names a deformable body.
+std::vector<LoadSpec> parse_loads(const Section& top, const std::vector<BodySpec>& bodies,
+                                  const std::vector<CurveSpec>& curves);
+
 /// The curve key `key` of `s` (empty if absent): fails unless it names one of `curves`.
 std::string curve_name(const Section& s, std::string_view key, const std::vector<CurveSpec>& curves);
 

@@ -11,6 +11,7 @@
 
 #include "material/law.hpp"
 #include "mesh/mesh.hpp"
+#include "model/loads.hpp"
 #include "model/prescribed.hpp"
 
 namespace conserve::model {
@@ -44,6 +45,8 @@ struct Model {
   std::vector<int> cell_body;                     ///< body index per cell
   std::vector<Body> bodies;
   Vec<D> gravity = Vec<D>::Zero();  ///< [m/s²]
+  int gravity_curve = -1;           ///< index into prescribed.curves scaling gravity; −1: constant
+  std::vector<SurfaceLoad> loads;
   Prescribed prescribed;
 
   [[nodiscard]] int num_nodes() const { return static_cast<int>(X.cols()); }

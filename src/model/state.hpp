@@ -10,6 +10,9 @@ struct State {
   double time = 0.0;      ///< [s]
   Eigen::VectorXd u;      ///< displacements from the reference configuration [m]
   Eigen::VectorXd v;      ///< velocities [m/s]
+  /// Work done on the bodies since t = 0 by the loads that have no
+  /// potential (curves, follower pressure) [J]: E − load_work is conserved.
+  double load_work = 0.0;
 };
 
 }  // namespace conserve::model

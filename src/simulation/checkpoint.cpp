@@ -29,7 +29,7 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// run's totals. 10: the constraints' force at the start of their last
 /// step and the lengths of the last two steps (located releases).
 /// 13: the contact method's state as its own bytes (contact::Method::save).
-/// 14: a penalty force's pair and whole vector.
+/// 14: a penalty force's pair and whole vector; the state's load work.
 constexpr std::uint32_t kVersion = 14;
 
 using Writer = ByteWriter;
@@ -150,6 +150,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(c.state.time);
   w.doubles(c.state.u.data(), c.state.u.size());
   w.doubles(c.state.v.data(), c.state.v.size());
+  w.value(c.state.load_work);
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
   w.value(static_cast<std::int64_t>(c.control.cutbacks));
@@ -195,6 +196,7 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.state.v.resize(model.num_dofs());
   r.doubles(c.state.u.data(), c.state.u.size(), "the displacement");
   r.doubles(c.state.v.data(), c.state.v.size(), "the velocity");
+  c.state.load_work = r.value<double>();
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
   c.control.cutbacks = r.value<std::int64_t>();

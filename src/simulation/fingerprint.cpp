@@ -141,6 +141,13 @@ Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& 
   f.setting("bodies", fmt::format("{}", fmt::join(names, ", ")));
   for (std::size_t b = 0; b < model.bodies.size(); ++b) add_body<D>(f, sc.bodies[b], model, model.bodies[b]);
   f.add("[loads] gravity", components(sc.gravity, D), [&](Hasher& h) { h.matrix(model.gravity); });
+  f.setting("[loads] gravity_curve", sc.gravity_curve);
+  for (std::size_t i = 0; i < sc.loads.size(); ++i) {
+    const io::LoadSpec& l = sc.loads[i];
+    f.setting(fmt::format("load[{}]", i),
+              fmt::format("{}:{} {} {}, curve '{}'", l.body, l.group, l.pressure ? "pressure" : "traction",
+                          l.pressure ? fmt::format("{}", l.pressure_value) : components(l.traction, D), l.curve));
+  }
   f.add("prescribed displacements", "", [&](Hasher& h) {  // [[boundary]] and rigid bodies
     h.vector(model.prescribed.dofs);
     h.vector(model.prescribed.value);

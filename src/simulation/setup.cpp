@@ -10,6 +10,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "contact/surface.hpp"
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/msh_reader.hpp"
@@ -124,6 +125,32 @@ void prescribe_rigid(const io::Scenario& scenario, const io::BodySpec& spec, con
   m.velocity_curve = curve_index(scenario, spec.velocity_curve);
   m.omega_curve = curve_index(scenario, spec.angular_velocity_curve);
   prescribed.rigid.push_back(m);
+}
+
+/// The surface loads, on the facets of their groups (contact::make_surface
+/// checks that the group exists and lies on the body's boundary, and
+/// orients it outward), and the gravity's curve.
+template <int D>
+void add_loads(const io::Scenario& scenario, model::Model<D>& model) {
+  model.gravity_curve = curve_index(scenario, scenario.gravity_curve);
+  for (std::size_t i = 0; i < scenario.loads.size(); ++i) {
+    const io::LoadSpec& spec = scenario.loads[i];
+    const auto body = std::find_if(model.bodies.begin(), model.bodies.end(),
+                                   [&](const model::Body& b) { return b.name == spec.body; });
+    model::SurfaceLoad load;
+    load.body = static_cast<int>(body - model.bodies.begin());
+    try {
+      load.facets = contact::make_surface<D>(model, load.body, spec.group).facets;
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", scenario.sources.locate(fmt::format("load[{}].group", i)), e.what()));
+    }
+    load.kind = spec.pressure ? model::SurfaceLoad::Kind::pressure : model::SurfaceLoad::Kind::traction;
+    load.traction = spec.traction;
+    load.pressure = spec.pressure_value;
+    load.curve = curve_index(scenario, spec.curve);
+    load.thickness = body->thickness;
+    model.loads.push_back(std::move(load));
+  }
 }
 
 template <int D>
@@ -330,6 +357,7 @@ Problem<D> setup(const io::Scenario& scenario) {
   check_scales<D>(scenario, p.model);
   p.model.gravity = scenario.gravity.head<D>();
   add_prescribed<D>(scenario, p.model);
+  add_loads<D>(scenario, p.model);
   p.initial = model::rest_state<D>(p.model);
   for (std::size_t i = 0; i < scenario.bodies.size(); ++i) {
     const io::BodySpec& spec = scenario.bodies[i];

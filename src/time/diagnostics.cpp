@@ -1,5 +1,7 @@
 #include "time/diagnostics.hpp"
 
+#include "time/surface_loads.hpp"
+
 namespace conserve::time {
 
 template <int D>
@@ -9,8 +11,10 @@ Diagnostics diagnostics(const assembly::Assembler<D>& assembler, const model::St
   Diagnostics d;
   d.kinetic = 0.5 * state.v.dot(p);
   d.strain = assembler.strain_energy(state.u);
-  d.potential = -assembler.gravity_force().dot(state.u);
-  d.total = d.kinetic + d.strain + d.potential;
+  d.potential = model.gravity_curve < 0 ? -assembler.gravity_force().dot(state.u) : 0.0;
+  if (!model.loads.empty()) d.potential -= conservative_load<D>(model).dot(state.u);
+  d.load_work = state.load_work;
+  d.total = d.kinetic + d.strain + d.potential - d.load_work;
   for (int n = 0; n < model.num_nodes(); ++n) {
     Vec3 x = Vec3::Zero(), pn = Vec3::Zero();
     x.head<D>() = model.X.col(n) + state.u.segment<D>(n * D);

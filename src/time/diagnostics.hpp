@@ -10,9 +10,12 @@ namespace conserve::time {
 struct Diagnostics {
   double kinetic = 0.0;         ///< K = ½ V·MV [J]
   double strain = 0.0;          ///< W = Σ ∫ ρ0Ψ [J]
-  double potential = 0.0;       ///< Π_ext = −f_ext·u [J]
+  double potential = 0.0;       ///< Π_ext = −f_ext·u of the constant loads (gravity, tractions) [J]
   double contact = 0.0;         ///< stored by the contact method (a penalty's springs) [J]; set by the caller
-  double total = 0.0;           ///< E = K + W + Π_ext (+ contact, once the caller sets it) [J]
+  double load_work = 0.0;       ///< work of the loads without a potential so far (State::load_work) [J]
+  /// E − load_work = K + W + Π_ext − load_work (+ contact, once the caller
+  /// sets it) [J]: what the scheme conserves.
+  double total = 0.0;
   Vec3 linear = Vec3::Zero();   ///< L = Σ_A (MV)_A [kg m/s] (z = 0 in 2D)
   Vec3 angular = Vec3::Zero();  ///< J = Σ_A x_A × (MV)_A about the origin [kg m²/s] (2D: z only)
   std::vector<Vec3> body_linear;  ///< L of each body [kg m/s]

@@ -128,6 +128,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     solver::ScopedTimer timer(timings_.contact_search);
     contact_->finish_step(state.u, u_np1, v_np1, stats_);
   }
+  for (const auto& term : terms_) state.load_work += term->external_work(u_np1);
   state.v = std::move(v_np1);
   state.u = std::move(u_np1);
   state.time = t_np1;

@@ -1,5 +1,7 @@
 #include "time/step_terms.hpp"
 
+#include "time/surface_loads.hpp"
+
 #include <cmath>
 
 namespace conserve::time {
@@ -65,7 +67,9 @@ StepTerms<D> elastodynamic_terms(const assembly::Assembler<D>& assembler, fem::S
   StepTerms<D> terms;
   terms.push_back(std::make_unique<Inertia<D>>(assembler));
   terms.push_back(std::make_unique<InternalForce<D>>(assembler, scheme));
-  terms.push_back(std::make_unique<BodyForce<D>>(assembler));
+  const auto& model = assembler.model();
+  if (model.gravity_curve < 0) terms.push_back(std::make_unique<BodyForce<D>>(assembler));
+  if (model.gravity_curve >= 0 || !model.loads.empty()) terms.push_back(std::make_unique<SurfaceLoads<D>>(assembler));
   return terms;
 }
 

@@ -2,7 +2,7 @@
 /// The step's residual as a sum of terms (paper (19)–(20)):
 ///   g(u_{n+1}) = (2/Δt²) M Δu − (2/Δt) M V_n   inertia
 ///              + f_int(u_n, u_{n+1})           internal force, (17)
-///              − f_ext                         body force (gravity)
+///              − f_ext                         body force (gravity), surface loads
 /// Each term gives its value and its derivative by u_{n+1}; the tangent is
 /// the sum of the derivatives. Contact is not a term: a constraint method's
 /// coupling (contact/method.hpp) forms the Newton system from the sum
@@ -38,6 +38,9 @@ class StepTerm {
   virtual void add_value(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g, Eigen::VectorXd& magnitude) = 0;
   /// K += ∂(value)/∂u_{n+1}; K has the assembler's pattern.
   virtual void add_derivative(const Eigen::VectorXd& u_np1, SparseMatrix& K) = 0;
+  /// The work over the step to u_{n+1} of the term's external forces that
+  /// have no potential (model::State::load_work) [J].
+  [[nodiscard]] virtual double external_work(const Eigen::VectorXd&) const { return 0.0; }
 };
 
 template <int D>

@@ -9,7 +9,9 @@
 #include "material/svk_law.hpp"
 #include "model/initial_state.hpp"
 #include "support/grid_mesh.hpp"
+#include "contact/surface.hpp"
 #include "time/step_problem.hpp"
+#include "time/surface_loads.hpp"
 
 namespace conserve::time {
 namespace {
@@ -81,6 +83,50 @@ TEST(StepTerms, EachDerivativeMatchesDifferencesOfItsValue) {
       EXPECT_LT(error / scale, 1e-7);
     }
   }
+}
+
+// A follower pressure on the whole boundary and a traction on one face
+// (each with a curve): the pressure's derivative (its area vectors at the
+// mid-point configuration) against central differences; the traction's is
+// zero. On the closed surface the pressure has no resultant and no moment.
+TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferences) {
+  Fixture f;
+  f.model.prescribed.curves.push_back(model::Curve{{0.0, 1.0}, {0.5, 2.0}});
+  model::SurfaceLoad pressure;
+  pressure.kind = model::SurfaceLoad::Kind::pressure;
+  pressure.body = 0;
+  pressure.facets = contact::make_surface<3>(f.model, 0, "boundary").facets;
+  pressure.pressure = 2.0e3;
+  pressure.curve = 0;
+  model::SurfaceLoad traction;
+  traction.body = 0;
+  traction.facets = contact::make_surface<3>(f.model, 0, "xmin").facets;
+  traction.traction = Vec3(1.0e3, -2.0e3, 5.0e2);
+  f.model.loads = {pressure, traction};
+  SurfaceLoads<3> loads(*f.assembler);
+  loads.begin(f.start, Fixture::dt);
+  const auto [error, scale] = derivative_error(loads, f.u_np1, f.assembler->pattern().make_matrix());
+  std::printf("[ measured ] surface loads: derivative vs central differences %.2e (largest column %.2e)\n",
+              error / scale, scale);
+  EXPECT_GT(scale, 1.0);
+  EXPECT_LT(error / scale, 1e-7);
+  // The pressure alone: no resultant, no moment about the origin at the mid-point configuration.
+  f.model.loads = {pressure};
+  SurfaceLoads<3> alone(*f.assembler);
+  alone.begin(f.start, Fixture::dt);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(f.u_np1.size()), m = g;
+  alone.add_value(f.u_np1, g, m);
+  const Eigen::VectorXd u_mid = 0.5 * (f.start.u + f.u_np1);
+  Vec3 resultant = Vec3::Zero(), moment = Vec3::Zero();
+  for (int n = 0; n < f.model.num_nodes(); ++n) {
+    const Vec3 x = f.model.X.col(n) + u_mid.segment<3>(3 * n), force = -g.segment<3>(3 * n);
+    resultant += force;
+    moment += x.cross(force);
+  }
+  std::printf("[ measured ] follower pressure on a closed surface: resultant %.2e N, moment %.2e N m (of %.2e N)\n",
+              resultant.norm(), moment.norm(), m.norm());
+  EXPECT_LT(resultant.norm(), 1e-12 * m.norm());
+  EXPECT_LT(moment.norm(), 1e-12 * m.norm());
 }
 
 // (20): g = (2/Δt²) M Δu − (2/Δt) M V_n + f_int(u_n, u_{n+1}) − f_ext.
