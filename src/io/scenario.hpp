@@ -38,8 +38,9 @@ struct MaterialSpec {
 /// Where a body's mesh comes from: a file or a built-in generator.
 struct MeshSpec {
   std::filesystem::path
-      file;               ///< .msh 4.1 file, absolute (resolved against the scenario's folder); empty with a generator
+      file;  ///< .msh 4.1 or .stl file, absolute (resolved against the scenario's folder); empty with a generator
   std::string group;      ///< cell physical group to take from the file; empty = all cells
+  bool flip_normals = false;  ///< reverse a bare surface's facets (file only)
   std::string generator;  ///< generator name (mesh/generators.hpp); empty with a file
   std::map<std::string, double> parameters;  ///< generator parameters, validated against the catalog
 };
@@ -58,8 +59,8 @@ struct BodySpec {
   double thickness = 1.0;  ///< out-of-plane thickness in 2D (plane strain) [m]
   /// All degrees of freedom prescribed: u(t) = velocity·t (the body moves
   /// rigidly; its material is not used). Only a rigid body may be a bare
-  /// surface (no cells), made by the generators `square` and `segment`; a
-  /// mesh file must hold cells (mesh/msh_reader.cpp).
+  /// surface (no cells), made by the generators `square` and `segment` or
+  /// read from a .msh surface or line mesh or an STL file.
   bool rigid = false;
 };
 
