@@ -77,6 +77,7 @@ void print_summary(const RunSummary& s) {
 void print_check(const std::string& file, const CheckSummary& s) {
   fmt::print("{}: valid. {}D, {} bodies, {} nodes, {} cells, {} unknowns ({} prescribed), mass {:.6g} kg, {} steps\n",
              file, s.dimension, s.bodies, s.nodes, s.cells, s.dofs, s.prescribed_dofs, s.total_mass, s.steps);
+  for (const std::string& surface : s.surfaces) fmt::print("  {}\n", surface);
 }
 
 template <class F>

@@ -10,11 +10,13 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
-  // The first byte picks the expected dimension, the rest is the file.
+  // The first byte picks the expected dimension and whether a file without
+  // cells may be a bare surface (a rigid body's); the rest is the file.
   const int dim = (data[0] & 1) ? 3 : 2;
+  const auto bare = (data[0] & 2) ? conserve::mesh::BareSurface::accepted : conserve::mesh::BareSurface::rejected;
   const std::string_view bytes(reinterpret_cast<const char*>(data + 1), size - 1);
   try {
-    const conserve::mesh::Mesh mesh = conserve::mesh::parse_msh(bytes, "fuzz.msh", dim);
+    const conserve::mesh::Mesh mesh = conserve::mesh::parse_msh(bytes, "fuzz.msh", dim, bare);
     (void)mesh;
   } catch (const conserve::InputError&) {
   }

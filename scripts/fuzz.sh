@@ -32,7 +32,10 @@ build=build/fuzz
 CC=clang CXX=clang++ cmake -S fuzz -B "$build" -G Ninja >/dev/null
 cmake --build "$build" --parallel "$(nproc)" --target "${targets[@]}"
 
-# The seeds: the msh target reads its first byte as the dimension (odd: 3D).
+# The seeds: the msh target reads its first byte's bit 0 as the dimension
+# (odd: 3D) and its bit 1 as whether a file without cells may be a bare
+# surface (set in '2' and '3': the surfaces tray.msh and valley.msh are
+# read as such).
 seed() {  # seed TARGET PREFIX_BYTE FILES...
   local dir="$build/corpus/$1" prefix="$2"
   shift 2
@@ -44,7 +47,7 @@ seed() {  # seed TARGET PREFIX_BYTE FILES...
 }
 shopt -s nullglob globstar
 seed fuzz_msh 3 tests/data/msh/*.msh examples/**/*.msh tests/data/scenarios/meshes/*.msh
-seed fuzz_msh 2 tests/data/msh/square.msh examples/validation/disc.msh
+seed fuzz_msh 2 tests/data/msh/square.msh tests/data/msh/valley.msh examples/validation/disc.msh
 seed fuzz_scenario "" tests/data/scenarios/*.toml examples/**/*.toml
 
 leaks=1

@@ -39,8 +39,9 @@ struct MaterialSpec {
 /// Where a body's mesh comes from: a file or a built-in generator.
 struct MeshSpec {
   std::filesystem::path
-      file;               ///< .msh 4.1 file, absolute (resolved against the scenario's folder); empty with a generator
+      file;  ///< .msh 4.1 or .stl file, absolute (resolved against the scenario's folder); empty with a generator
   std::string group;      ///< cell physical group to take from the file; empty = all cells
+  bool flip_normals = false;  ///< reverse a bare surface's facets (file only)
   std::string generator;  ///< generator name (mesh/generators.hpp); empty with a file
   std::map<std::string, double> parameters;  ///< generator parameters, validated against the catalog
 };
@@ -60,7 +61,8 @@ struct BodySpec {
   /// All degrees of freedom prescribed (model/prescribed.hpp): the body
   /// translates at velocity · c_v(t) and turns at angular_velocity · c_ω(t)
   /// about `center` (its material is not used). Only a rigid body may be a
-  /// bare surface (no cells), made by the generators `square` and `segment`.
+  /// bare surface (no cells), made by the generators `square` and `segment`
+  /// or read from a .msh surface or line mesh or an STL file.
   bool rigid = false;
   /// Rigid bodies: the point it turns about [m]; none: its bounding box's centre.
   std::optional<Eigen::Vector3d> center;

@@ -283,7 +283,8 @@ SectionSpec body_section() {
                .doc = "all degrees of freedom prescribed: the body moves rigidly, translating at `velocity` and "
                       "turning at `angular_velocity` about `center`, each rate scaled by its curve if given "
                       "(docs/user-guide.md, \"Rigid bodies\"); no `initial_deformation` or [[boundary]]; "
-                      "`material` optional; its mesh may be a bare surface (`square`, `segment`)"},
+                      "`material` optional; its mesh may be a bare surface (`square`, `segment`, a .msh surface "
+                      "or line mesh, an STL file)"},
               {.name = "translate",
                .type = KeyType::vector,
                .default_value = "zeros",
@@ -361,11 +362,22 @@ SectionSpec mesh_section() {
               {
                   {.name = "file",
                    .type = KeyType::string,
-                   .doc = "Gmsh .msh 4.1 file, relative to the scenario file's folder; must exist"},
+                   .doc = "Gmsh .msh 4.1 file or STL file (`.stl`, ASCII or binary, 3D), relative to the "
+                          "scenario file's folder; must exist. A rigid body's may be a bare surface: a .msh file "
+                          "without cells but with 3-node triangles (3D) or 2-node lines (2D), or an STL file; facet "
+                          "groups `surface` (all facets) and the file's physical groups; its facets must be "
+                          "consistently oriented, and their normals (right-hand rule; (t_y, −t_x) in 2D) point to "
+                          "the slaves' side (`conserve check` states which way)"},
                   {.name = "group",
                    .type = KeyType::string,
                    .default_value = "",
-                   .doc = "cell physical group to take from the file (empty: all cells); only with `file`"},
+                   .doc = "cell physical group to take from the file (empty: all cells); only with `file`, not "
+                          "with a bare surface"},
+                  {.name = "flip_normals",
+                   .type = KeyType::boolean,
+                   .default_value = "false",
+                   .doc = "reverse every facet of a bare surface read from `file`, so that its normals point "
+                          "the other way"},
                   {.name = "generator",
                    .type = KeyType::string,
                    .doc = "name of a built-in mesh generator; its `dim` must equal `dimension`"},

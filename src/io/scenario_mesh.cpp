@@ -16,14 +16,14 @@ namespace fs = std::filesystem;
 
 fs::path resolve_mesh_file(const Section& s, const fs::path& scenario_file) {
   const auto text = s.string("file");
-  if (text.empty()) s.fail("file", "is empty", "the path of a .msh file");
+  if (text.empty()) s.fail("file", "is empty", "the path of a .msh or .stl file");
   fs::path file(text);
   if (file.is_relative()) file = scenario_file.parent_path() / file;
   file = fs::absolute(file).lexically_normal();
   std::error_code error;
   if (!fs::is_regular_file(file, error)) {
     s.fail("file", fmt::format("mesh file '{}' does not exist", file.string()),
-           "an existing .msh file, relative to the scenario file's folder");
+           "an existing .msh or .stl file, relative to the scenario file's folder");
   }
   return file;
 }
@@ -37,13 +37,14 @@ std::vector<std::string> keys_in_file_order(const Section& s) {
 
 MeshSpec parse_file_mesh(const Section& s, const fs::path& scenario_file) {
   for (const auto& key : keys_in_file_order(s)) {
-    if (key != "file" && key != "group") {
+    if (key != "file" && key != "group" && key != "flip_normals") {
       s.fail(key, fmt::format("unknown key '{}'", key), "one of: " + key_names(s.spec()));
     }
   }
   MeshSpec mesh;
   mesh.file = resolve_mesh_file(s, scenario_file);
   mesh.group = s.string("group");
+  mesh.flip_normals = s.boolean("flip_normals");
   return mesh;
 }
 
@@ -96,6 +97,8 @@ MeshSpec parse_generator_mesh(const Section& s) {
   MeshSpec mesh;
   mesh.generator = s.string("generator");
   if (s.has("group")) s.fail("group", "is only allowed with 'file'", "no 'group' with a generator");
+  if (s.has("flip_normals"))
+    s.fail("flip_normals", "is only allowed with 'file'", "no 'flip_normals' with a generator");
   const auto& catalog = mesh::generator_catalog();
   const auto it = catalog.find(mesh.generator);
   const int dim = s.dimension();

@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "mesh/gmsh_mesher.hpp"
+#include "mesh/surface_mesh.hpp"
 
 namespace conserve::mesh {
 
@@ -194,19 +195,6 @@ Generator annulus() {
 
 GeneratorParameter facet_size(const std::string& count) { return length("size", "target facet edge length: " + count); }
 
-/// Cell-less mesh of `facets` (dim × n) on `points`: cell group "body"
-/// empty, facet groups "surface" and "boundary" both these facets.
-Mesh surface_mesh(int dim, Eigen::MatrixXd points, Eigen::MatrixXi facets) {
-  Mesh mesh;
-  mesh.dim = dim;
-  mesh.points = std::move(points);
-  mesh.cells.resize(dim + 1, 0);
-  mesh.cell_groups["body"] = {};
-  mesh.facet_groups["surface"].facets = facets;
-  mesh.facet_groups["boundary"].facets = std::move(facets);
-  return mesh;
-}
-
 int divisions(double length, double size) { return std::max(1, static_cast<int>(std::ceil(length / size - 1e-9))); }
 
 /// lx × ly in the plane z = 0: a grid of nx × ny squares, two triangles
@@ -227,7 +215,7 @@ Mesh square_mesh(const Params& p) {
       facets.col(f++) << node(i, j), node(i + 1, j), node(i + 1, j + 1);
       facets.col(f++) << node(i, j), node(i + 1, j + 1), node(i, j + 1);
     }
-  return surface_mesh(3, std::move(points), std::move(facets));
+  return bare_surface(3, std::move(points), std::move(facets));
 }
 
 /// The segment y = 0, |x| ≤ lx/2 in n pieces, each from larger to smaller x
@@ -238,7 +226,7 @@ Mesh segment_mesh(const Params& p) {
   for (int i = 0; i <= n; ++i) points(0, i) = p.at("lx") * (static_cast<double>(i) / n - 0.5);
   Eigen::MatrixXi facets(2, n);
   for (int i = 0; i < n; ++i) facets.col(i) << i + 1, i;
-  return surface_mesh(2, std::move(points), std::move(facets));
+  return bare_surface(2, std::move(points), std::move(facets));
 }
 
 Generator square() {

@@ -27,32 +27,6 @@ std::mutex& gmsh_mutex() {
   return mutex;
 }
 
-/// gmsh::initialize ... gmsh::finalize around one generation. Gmsh sets
-/// OpenMP's process-wide thread count to its General.NumThreads (1) as it
-/// starts and meshes; the session puts back what the process had, or every
-/// later parallel loop (the assembly) runs on one thread.
-class GmshSession {
- public:
-  GmshSession() {
-#ifdef _OPENMP
-    threads_ = omp_get_max_threads();
-#endif
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-  }
-  ~GmshSession() {
-    gmsh::finalize();
-#ifdef _OPENMP
-    omp_set_num_threads(threads_);
-#endif
-  }
-  GmshSession(const GmshSession&) = delete;
-  GmshSession& operator=(const GmshSession&) = delete;
-
- private:
-  int threads_ = 1;
-};
-
 int cell_type(int dim) { return dim == 2 ? 2 : 4; }   // 3-node triangle, 4-node tet
 int facet_type(int dim) { return dim == 2 ? 1 : 2; }  // 2-node line, 3-node triangle
 
@@ -176,9 +150,23 @@ Mesh generate_locked(const GmshRecipe& recipe) {
 
 }  // namespace
 
+GmshSession::GmshSession() : lock_(gmsh_mutex()) {
+#ifdef _OPENMP
+  threads_ = omp_get_max_threads();
+#endif
+  gmsh::initialize(0, nullptr, false);
+  gmsh::option::setNumber("General.Terminal", 0);
+}
+
+GmshSession::~GmshSession() {
+  gmsh::finalize();
+#ifdef _OPENMP
+  omp_set_num_threads(threads_);
+#endif
+}
+
 Mesh mesh_with_gmsh(const GmshRecipe& recipe) {
   static constexpr const char* kHint = " (expected a mesh size small enough for the thinnest part)";
-  const std::lock_guard lock(gmsh_mutex());
   const GmshSession session;
   try {
     return generate_locked(recipe);

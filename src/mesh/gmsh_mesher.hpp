@@ -3,6 +3,7 @@
 /// C++ API and turns the result into a Mesh.
 #include <Eigen/Core>
 #include <functional>
+#include <mutex>
 #include <string>
 
 #include "mesh/mesh.hpp"
@@ -26,6 +27,24 @@ struct GmshRecipe {
   std::function<std::string(const EntityShape&)> classify;
   double size = 1.0;   ///< target element size, in model coordinates
   double scale = 1.0;  ///< model coordinates × scale = mesh coordinates [m]
+};
+
+/// One use of Gmsh, which is a global singleton: holds a process-wide lock
+/// for its lifetime (uses are serialised), starts Gmsh quietly and finalises
+/// it. Gmsh sets OpenMP's process-wide thread count to its
+/// General.NumThreads (1) as it starts and meshes; the session puts back
+/// what the process had, or every later parallel loop (the assembly) runs
+/// on one thread.
+class GmshSession {
+ public:
+  GmshSession();
+  ~GmshSession();
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+
+ private:
+  std::unique_lock<std::mutex> lock_;
+  int threads_ = 1;
 };
 
 /// Meshes the recipe (serialised: Gmsh is a global singleton). The result has

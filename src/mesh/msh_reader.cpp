@@ -1,5 +1,6 @@
 // Gmsh MSH 4.1 reader: the section loop (msh_sections.cpp parses each
-// section) and the assembly of the Mesh from what the sections hold.
+// section) and the assembly of the Mesh from what the sections hold: cells,
+// or for a rigid body's file without cells, a bare surface.
 #include "mesh/msh_reader.hpp"
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "mesh/msh_sections.hpp"
+#include "mesh/surface_mesh.hpp"
 #include "mesh/topology.hpp"
 
 namespace conserve::mesh {
@@ -160,11 +162,88 @@ void add_facet_groups(const MshCursor& in, const MshContent& content, const std:
   }
 }
 
-Mesh assemble(const MshCursor& in, const MshContent& content, const std::string& name) {
+const char* facet_name(int dim) { return dim == 3 ? "3-node triangles" : "2-node lines"; }
+
+/// The surface's facets, its nodes numbered in the order the facets first
+/// use them; `tags` gets each new node's tag in the file.
+Eigen::MatrixXi surface_facets(const MshCursor& in, const MshContent& content, std::vector<int>& new_index,
+                               std::vector<std::uint64_t>& tags) {
+  const int dim = content.dim;
+  new_index.assign(content.node_tags.size(), -1);
+  Eigen::MatrixXi facets(dim, static_cast<Eigen::Index>(content.facets.size()));
+  for (std::size_t f = 0; f < content.facets.size(); ++f)
+    for (int i = 0; i < dim; ++i) {
+      const RawElement& facet = content.facets[f];
+      const auto position =
+          static_cast<std::size_t>(node_position(in, content, facet, facet.nodes[static_cast<std::size_t>(i)]));
+      if (new_index[position] < 0) {
+        new_index[position] = static_cast<int>(tags.size());
+        tags.push_back(content.node_tags[position]);
+      }
+      facets(i, static_cast<Eigen::Index>(f)) = new_index[position];
+    }
+  return facets;
+}
+
+void check_surface(const MshCursor& in, const MshContent& content, const Mesh& mesh,
+                   const std::vector<std::uint64_t>& tags) {
+  const Eigen::MatrixXi& facets = mesh.facet_groups.at("surface").facets;
+  if (const auto f = degenerate_facet(mesh.points, facets)) {
+    const RawElement& facet = content.facets[static_cast<std::size_t>(*f)];
+    in.fail(facet.offset,
+            fmt::format("element {} is degenerate (its nodes coincide or are aligned; expected a {} "
+                        "of positive {})",
+                        facet.tag, mesh.dim == 3 ? "triangle" : "segment", mesh.dim == 3 ? "area" : "length"));
+  }
+  const auto clash = orientation_clash(facets);
+  if (!clash) return;
+  const RawElement& first = content.facets[static_cast<std::size_t>(clash->first)];
+  const RawElement& second = content.facets[static_cast<std::size_t>(clash->second)];
+  const auto tag = [&tags](int node) { return tags[static_cast<std::size_t>(node)]; };
+  const std::string shared = mesh.dim == 3 ? fmt::format("share the edge from node {} to node {} in the same direction",
+                                                         tag(clash->from), tag(clash->to))
+                                           : fmt::format("both {} at node {}", clash->to < 0 ? "start" : "end",
+                                                         tag(clash->to < 0 ? clash->from : clash->to));
+  in.fail(second.offset,
+          fmt::format("elements {} and {} {}: the surface's facets are not consistently oriented (expected {}, so "
+                      "that all normals point to one side)",
+                      first.tag, second.tag, shared,
+                      mesh.dim == 3 ? "each edge of two triangles to run once each way"
+                                    : "each node of two lines to end one and start the other"));
+}
+
+/// A file without cells read as a bare surface (read_msh with BareSurface::accepted).
+Mesh assemble_surface(const MshCursor& in, const MshContent& content) {
+  if (content.other_facet_type != 0) {
+    const detail::ElementType& type = *detail::find_element_type(content.other_facet_type);
+    in.fail(content.other_facet_offset, fmt::format("element type {} ({}) in a surface mesh: conserve needs {}",
+                                                    type.number, type.name, facet_name(content.dim)));
+  }
+  std::vector<int> new_index;
+  std::vector<std::uint64_t> tags;
+  Eigen::MatrixXi facets = surface_facets(in, content, new_index, tags);
+  Mesh mesh = bare_surface(content.dim, kept_points(in, content, new_index), std::move(facets));
+  check_surface(in, content, mesh, tags);
+  std::map<std::string, std::vector<int>> groups;  // name → facet columns
+  for (std::size_t f = 0; f < content.facets.size(); ++f)
+    for (const std::string& name : group_names(content, content.dim - 1, content.facets[f].entity))
+      groups[name].push_back(static_cast<int>(f));
+  const Eigen::MatrixXi& all = mesh.facet_groups.at("surface").facets;
+  for (const auto& [name, columns] : groups) mesh.facet_groups[name].facets = all(Eigen::all, columns);
+  return mesh;
+}
+
+Mesh assemble(const MshCursor& in, const MshContent& content, const std::string& name, BareSurface bare) {
+  if (content.cells.empty() && bare == BareSurface::accepted &&
+      (!content.facets.empty() || content.other_facet_type != 0))
+    return assemble_surface(in, content);
   if (content.cells.empty())
-    throw InputError(fmt::format("{}: no {} (element type {}) in the file (expected a {}D mesh)", name,
-                                 content.dim == 3 ? "4-node tetrahedra" : "3-node triangles", content.dim == 3 ? 4 : 2,
-                                 content.dim));
+    throw InputError(fmt::format(
+        "{}: no {} (element type {}) in the file (expected a {}D mesh{})", name,
+        content.dim == 3 ? "4-node tetrahedra" : "3-node triangles", content.dim == 3 ? 4 : 2, content.dim,
+        content.facets.empty() ? std::string()
+                               : fmt::format("; its {} {} make a bare surface, which only a rigid body may be",
+                                             content.facets.size(), facet_name(content.dim))));
   const std::vector<int> new_index = number_kept_nodes(in, content);
   Mesh mesh;
   mesh.dim = content.dim;
@@ -178,16 +257,16 @@ Mesh assemble(const MshCursor& in, const MshContent& content, const std::string&
 
 }  // namespace
 
-Mesh parse_msh(std::string_view bytes, const std::string& name, int dim) {
+Mesh parse_msh(std::string_view bytes, const std::string& name, int dim, BareSurface bare) {
   if (dim != 2 && dim != 3) throw InputError(fmt::format("{}: mesh dimension {} (expected 2 or 3)", name, dim));
   MshCursor in(bytes, name);
   MshContent content;
   content.dim = dim;
   parse_sections(in, content);
-  return assemble(in, content, name);
+  return assemble(in, content, name, bare);
 }
 
-Mesh read_msh(const std::filesystem::path& file, int dim) {
+Mesh read_msh(const std::filesystem::path& file, int dim, BareSurface bare) {
   std::error_code ec;
   std::ifstream stream(file, std::ios::binary);
   if (!stream || std::filesystem::is_directory(file, ec))
@@ -195,7 +274,7 @@ Mesh read_msh(const std::filesystem::path& file, int dim) {
   std::ostringstream bytes;
   bytes << stream.rdbuf();
   if (stream.bad()) throw InputError(fmt::format("{}: error while reading the mesh file", file.string()));
-  return parse_msh(bytes.str(), file.string(), dim);
+  return parse_msh(bytes.str(), file.string(), dim, bare);
 }
 
 }  // namespace conserve::mesh

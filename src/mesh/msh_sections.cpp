@@ -119,6 +119,10 @@ void read_element_block(MshCursor& in, MshContent& content, std::uint64_t& total
     if (role == Role::cell) content.cells.push_back(element);
     if (role == Role::facet) content.facets.push_back(element);
   }
+  if (role == Role::skip && type->dim == content.dim - 1 && n > 0 && content.other_facet_type == 0) {
+    content.other_facet_type = type->number;
+    content.other_facet_offset = at;
+  }
   total += n;
 }
 

@@ -49,6 +49,10 @@ struct MshContent {
   std::unordered_map<std::uint64_t, int> node_index;  ///< tag → position in node_tags
   std::vector<RawElement> cells;                      ///< elements of dimension dim
   std::vector<RawElement> facets;                     ///< simplices of dimension dim-1
+  /// The first element of dimension dim-1 that is not a simplex (e.g. a
+  /// quadrangle in 3D): its type (0: none) and where its block starts.
+  int other_facet_type = 0;
+  std::size_t other_facet_offset = 0;
 };
 
 void parse_mesh_format(MshCursor& in, MshContent& content);

@@ -162,6 +162,41 @@ void check_slave_sizes(const io::Scenario& scenario, const model::Model<D>& mode
   }
 }
 
+/// Slave nodes that start behind a bare master surface (a body without
+/// cells, whose facets' order alone gives their normals): the search
+/// (contact::find_master) at the reference positions finds them behind a
+/// facet they project inside. A surface facing away from its slaves puts
+/// them all there.
+template <int D>
+void check_sides(const io::Scenario& scenario, const model::Model<D>& model,
+                 const std::vector<contact::ContactPair<D>>& pairs, std::vector<std::string>& out) {
+  for (std::size_t p = 0; p < pairs.size() && p < scenario.contacts.size(); ++p) {
+    const contact::ContactPair<D>& pair = pairs[p];
+    if (model.bodies[static_cast<std::size_t>(pair.master.body)].num_cells > 0 || pair.master.num_facets() == 0)
+      continue;
+    contact::FacetTree<D> tree;
+    tree.build(pair.master.facets, model.X);
+    int behind = 0;
+    double deepest = 0.0;
+    for (const int s : pair.slave.nodes) {
+      const auto m = contact::find_master<D>(model.X.col(s), pair.master, tree, model.X, pair.search);
+      if (!m || !m->projection.inside(pair.search.inside_tolerance) ||
+          !(m->projection.gap < -pair.search.penetration_tolerance))
+        continue;
+      ++behind;
+      deepest = std::min(deepest, m->projection.gap);
+    }
+    if (behind == 0) continue;
+    const io::ContactSpec& c = scenario.contacts[p];
+    out.push_back(fmt::format(
+        "{}: {} of the {} nodes of the slave surface '{}:{}' start behind the bare master surface '{}:{}' (gaps down "
+        "to {:.3g} m): the slaves belong on the side its facets' normals point to (`conserve check` states which); "
+        "if they face away, reverse them ([body.mesh] flip_normals)",
+        scenario.sources.locate(fmt::format("contact[{}].master", p)), behind, pair.slave.nodes.size(), c.slave_body,
+        c.slave_group, c.master_body, c.master_group, deepest));
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -172,6 +207,7 @@ std::vector<std::string> plausibility_warnings(const io::Scenario& scenario, con
   check_mesh_sizes<D>(scenario, model, out);
   check_densities<D>(scenario, model, out);
   check_slave_sizes<D>(scenario, model, pairs, out);
+  check_sides<D>(scenario, model, pairs, out);
   return out;
 }
 

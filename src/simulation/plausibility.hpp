@@ -33,7 +33,9 @@ inline constexpr double kCoarseSlave = 1.5;
 /// - a density outside [kLightestSolid, kDensestSolid], with the mass it
 ///   gives the body;
 /// - a contact pair (`pairs`, in scenario order) whose slave surface is
-///   coarser than its master (kCoarseSlave), unless the master is flat.
+///   coarser than its master (kCoarseSlave), unless the master is flat;
+/// - a contact pair whose slave nodes start behind its master, a bare
+///   surface (facing away from them: flip_normals).
 /// Each is one line "FILE:LINE: KEY: what (figures)".
 template <int D>
 std::vector<std::string> plausibility_warnings(const io::Scenario& scenario, const model::Model<D>& model,

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/history_writer.hpp"
+#include "mesh/surface_mesh.hpp"
 #include "simulation/checkpoint.hpp"
 #include "simulation/output.hpp"
 #include "simulation/output_folder.hpp"
@@ -193,10 +194,19 @@ CheckSummary check_dim(const io::Scenario& sc) {
                  p.model.num_dofs(),
                  static_cast<int>(p.model.prescribed.dofs.size()),
                  step_count(sc.time),
-                 0.0};
+                 0.0,
+                 {},
+                 {}};
   for (int c = 0; c < p.model.num_cells(); ++c)
     s.total_mass += p.model.bodies[p.model.cell_body[c]].density * p.model.geometry[c].volume;
   s.warnings = plausibility_warnings<D>(sc, p.model, pairs);
+  for (std::size_t b = 0; b < sc.bodies.size(); ++b) {
+    const model::Body& body = p.model.bodies[b];
+    if (body.num_cells > 0 || !sc.bodies[b].mesh.generator.empty()) continue;
+    const Eigen::MatrixXd X = p.model.X;
+    const auto summary = mesh::summarize_surface(X, model::distinct_facets(body));
+    s.surfaces.push_back(fmt::format("body '{}': {}", body.name, mesh::describe_surface(summary)));
+  }
   return s;
 }
 

@@ -44,6 +44,9 @@ struct CheckSummary {
   std::int64_t steps = 0;   ///< end / step, rounded up
   double total_mass = 0.0;  ///< [kg]
   std::vector<std::string> warnings;  ///< plausibility warnings (simulation/plausibility.hpp)
+  /// Per rigid bare surface read from a file: "body 'NAME': " and which
+  /// way its normals point (mesh::describe_surface).
+  std::vector<std::string> surfaces;
 };
 
 /// Validates the scenario fully (meshes made or read, groups resolved).

@@ -13,7 +13,8 @@
 #include "contact/surface.hpp"
 #include "core/error.hpp"
 #include "mesh/generators.hpp"
-#include "mesh/msh_reader.hpp"
+#include "mesh/stl_reader.hpp"
+#include "mesh/surface_mesh.hpp"
 #include "mesh/topology.hpp"
 #include "material/law.hpp"
 #include "model/initial_state.hpp"
@@ -50,8 +51,15 @@ mesh::Mesh body_mesh(const io::Scenario& scenario, std::size_t i, int dim) {
   const io::BodySpec& spec = scenario.bodies[i];
   mesh::Mesh m;
   if (spec.mesh.generator.empty()) {
-    const mesh::Mesh all = at_key(scenario, i, "mesh.file", [&] { return mesh::read_msh(spec.mesh.file, dim); });
-    m = at_key(scenario, i, "mesh.group", [&] { return mesh::extract(all, spec.mesh.group); });
+    const auto bare = spec.rigid ? mesh::BareSurface::accepted : mesh::BareSurface::rejected;
+    m = at_key(scenario, i, "mesh.file", [&] { return mesh::read_mesh_file(spec.mesh.file, dim, bare); });
+    if (m.num_cells() == 0 && !spec.mesh.group.empty())
+      throw body_error(scenario, i, "mesh.group", "the mesh is a bare surface, without cells to choose from");
+    if (m.num_cells() > 0) m = at_key(scenario, i, "mesh.group", [&] { return mesh::extract(m, spec.mesh.group); });
+    if (spec.mesh.flip_normals && m.num_cells() > 0)
+      throw body_error(scenario, i, "mesh.flip_normals",
+                       "the mesh has cells, whose facets face outward (only a bare surface's can be flipped)");
+    if (spec.mesh.flip_normals) mesh::flip_normals(m);
   } else {
     m = at_key(scenario, i, "mesh.generator",
                [&] { return mesh::generate_mesh(spec.mesh.generator, spec.mesh.parameters); });

@@ -61,9 +61,18 @@ TEST(ScenarioErrors, UnknownKeyInEveryTable) {
   EXPECT_TRUE(fails_with(minimal("[loads]\ngravitation = [0, 0, 1]\n"), 13, "loads.gravitation", "gravity"));
   EXPECT_TRUE(fails_with(minimal("[output]\ndir = \"x\"\n"), 13, "output.dir", "directory"));
   EXPECT_TRUE(fails_with(replace_line(minimal(), 5, "nam = \"a\""), 5, "body[0].nam", "unknown key 'nam'"));
-  EXPECT_TRUE(fails_with(minimal("grp = \"x\"\n"), 12, "body[0].mesh.grp", "expected one of: file, group, generator"));
+  EXPECT_TRUE(fails_with(minimal("grp = \"x\"\n"), 12, "body[0].mesh.grp",
+                         "expected one of: file, group, flip_normals, generator"));
   EXPECT_TRUE(fails_with(minimal("[[boundary]]\nbody = \"a\"\ngroup = \"all\"\nrates = [0, 0, 0]\n"), 15,
                          "boundary[0].rates", "unknown key 'rates'"));
+}
+
+TEST(ScenarioErrors, FlipNormalsIsABooleanOfAFileMesh) {
+  EXPECT_FALSE(parse_scenario(minimal(), case_file()).bodies[0].mesh.flip_normals);
+  EXPECT_TRUE(parse_scenario(minimal("flip_normals = true\n"), case_file()).bodies[0].mesh.flip_normals);
+  EXPECT_TRUE(fails_with(minimal("flip_normals = \"yes\"\n"), 12, "body[0].mesh.flip_normals", "got a string"));
+  EXPECT_TRUE(fails_with(with_mesh("generator = \"box\"\nlx = 1\nly = 1\nlz = 1\nsize = 0.5\nflip_normals = true\n"),
+                         16, "body[0].mesh.flip_normals", "is only allowed with 'file'"));
 }
 
 TEST(ScenarioErrors, FirstUnknownKeyInFileOrderIsReported) {

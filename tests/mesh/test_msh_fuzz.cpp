@@ -1,5 +1,6 @@
 // Garbage in: parse_msh must only ever throw InputError (no crash, no hang,
-// no other exception) on random bytes and on mutated or cut valid files.
+// no other exception) on random bytes and on mutated or cut valid files,
+// volume meshes and bare surfaces alike.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -13,9 +14,9 @@ namespace conserve::mesh {
 namespace {
 
 /// Parses; returns false (and records a failure) on anything but success or InputError.
-bool parses_or_input_error(const std::string& bytes, int dim) {
+bool parses_or_input_error(const std::string& bytes, int dim, BareSurface bare = BareSurface::rejected) {
   try {
-    parse_msh(bytes, "fuzz.msh", dim);
+    parse_msh(bytes, "fuzz.msh", dim, bare);
   } catch (const InputError&) {
   } catch (const std::exception& e) {
     ADD_FAILURE() << "unexpected exception: " << e.what();
@@ -83,6 +84,20 @@ TEST(MshFuzz, MutatedValidFilesOnlyThrowInputError) {
   for (int i = 0; i < 3000; ++i) {
     const auto& [bytes, dim] = valid[static_cast<std::size_t>(i) % valid.size()];
     ASSERT_TRUE(parses_or_input_error(mutate(rng, bytes), dim)) << i;
+  }
+}
+
+TEST(MshFuzz, MutatedSurfaceFilesOnlyThrowInputError) {
+  std::mt19937 rng(4242);
+  const std::vector<std::pair<std::string, int>> valid = {
+      {test::file_bytes(test::data_dir() / "tray.msh"), 3},
+      {test::file_bytes(test::data_dir() / "valley.msh"), 2},
+      {test::kTinySurface, 3},
+      {test::kTinyLine2D, 2},
+  };
+  for (int i = 0; i < 3000; ++i) {
+    const auto& [bytes, dim] = valid[static_cast<std::size_t>(i) % valid.size()];
+    ASSERT_TRUE(parses_or_input_error(mutate(rng, bytes), dim, BareSurface::accepted)) << i;
   }
 }
 

@@ -1,10 +1,16 @@
 // Reading Gmsh MSH 4.1 files: the committed meshes of tests/data/msh (made
-// by gmsh from the .geo files there) and small hand-written files.
+// by gmsh from the .geo files there) and small hand-written files; volume
+// meshes, and bare surfaces (a rigid body's) in 3D and 2D.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+#include <vector>
+
 #include "core/error.hpp"
 #include "mesh/msh_reader.hpp"
+#include "mesh/surface_mesh.hpp"
 #include "mesh/topology.hpp"
 #include "mesh_checks.hpp"
 #include "msh_samples.hpp"
@@ -19,9 +25,10 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 /// The message of the InputError that parsing `text` as `name` throws.
-std::string error_of(const std::string& text, int dim = 3, const std::string& name = "tiny.msh") {
+std::string error_of(const std::string& text, int dim = 3, const std::string& name = "tiny.msh",
+                     BareSurface bare = BareSurface::rejected) {
   try {
-    parse_msh(text, name, dim);
+    parse_msh(text, name, dim, bare);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -249,6 +256,107 @@ TEST(MshReaderErrors, BinaryEndiannessCheck) {
   const std::size_t one = bytes.find('\n', bytes.find("4.1 1 8")) + 1;
   std::swap(bytes[one], bytes[one + 3]);
   EXPECT_THAT(error_of(bytes, 3, "cube.bin"), AllOf(HasSubstr("cube.bin: byte"), HasSubstr("endianness")));
+}
+
+/// Each side (edge in 3D, node in 2D) and how many facets use it.
+std::map<std::vector<int>, int> side_uses(const Eigen::MatrixXi& facets) {
+  std::map<std::vector<int>, int> uses;
+  for (int f = 0; f < facets.cols(); ++f)
+    for (int i = 0; i < facets.rows(); ++i) {
+      std::vector<int> side{facets(i, f)};
+      if (facets.rows() == 3) side.push_back(facets((i + 1) % 3, f));
+      std::sort(side.begin(), side.end());
+      ++uses[side];
+    }
+  return uses;
+}
+
+TEST(MshSurface, GmshTrayIsOneConnectedSurfaceWithItsGroups) {
+  const Mesh mesh = read_msh(data_dir() / "tray.msh", 3, BareSurface::accepted);
+  EXPECT_EQ(mesh.num_cells(), 0);
+  EXPECT_EQ(mesh.num_nodes(), 25);
+  const Eigen::MatrixXi& all = mesh.facet_groups.at("surface").facets;
+  ASSERT_EQ(all.cols(), 40);
+  EXPECT_EQ(mesh.facet_groups.at("boundary").facets, all);
+  EXPECT_EQ(mesh.facet_groups.at("bottom").facets.cols(), 8);
+  EXPECT_EQ(mesh.facet_groups.at("walls").facets.cols(), 32);
+  int border = 0, shared = 0;  // the rim (4 sides × 2 segments) is the only border
+  for (const auto& [side, uses] : side_uses(all)) (uses == 1 ? border : shared) += 1;
+  EXPECT_EQ(border, 8);
+  EXPECT_EQ(shared, 56);
+  EXPECT_FALSE(orientation_clash(all).has_value());
+  for (int f = 0; f < all.cols(); ++f) EXPECT_GT(test::area_normal(mesh, all, f).z(), 0.0) << f;  // into the tray
+  for (int f = 0, next = 0; f < all.cols(); ++f)  // numbered in the order the facets first use the nodes
+    for (int i = 0; i < 3; ++i)
+      if (all(i, f) >= next) EXPECT_EQ(all(i, f), next++) << f;
+  EXPECT_EQ(mesh.points.rows(), 3);
+}
+
+TEST(MshSurface, TinySurfaceNumbersNodesByFirstUse) {
+  const Mesh mesh = parse_msh(test::kTinySurface, "tiny.msh", 3, BareSurface::accepted);
+  ASSERT_EQ(mesh.num_nodes(), 4);
+  EXPECT_EQ(mesh.points.col(0), Eigen::Vector3d(1, 1, 0));  // tag 3
+  EXPECT_EQ(mesh.points.col(3), Eigen::Vector3d(1, 0, 0));  // tag 2
+  EXPECT_EQ(mesh.facet_groups.at("pad").facets, (Eigen::MatrixXi(3, 2) << 0, 0, 1, 2, 2, 3).finished());
+  EXPECT_EQ(mesh.facet_groups.at("surface").facets, mesh.facet_groups.at("pad").facets);
+  EXPECT_TRUE(mesh.cell_groups.at("body").empty());
+}
+
+TEST(MshSurface, LineMeshIn2D) {
+  const Mesh valley = read_msh(data_dir() / "valley.msh", 2, BareSurface::accepted);
+  EXPECT_EQ(valley.points.rows(), 2);
+  EXPECT_EQ(valley.num_nodes(), 5);
+  const Eigen::MatrixXi& all = valley.facet_groups.at("surface").facets;
+  ASSERT_EQ(all.rows(), 2);
+  EXPECT_EQ(all.cols(), 4);
+  EXPECT_EQ(valley.facet_groups.at("floor").facets.cols(), 2);
+  EXPECT_EQ(valley.facet_groups.at("slopes").facets.cols(), 2);
+  for (int f = 0; f < all.cols(); ++f) EXPECT_GT(test::area_normal(valley, all, f).y(), 0.0) << f;  // up
+  const Mesh tiny = parse_msh(test::kTinyLine2D, "tiny.msh", 2, BareSurface::accepted);
+  EXPECT_EQ(tiny.facet_groups.at("surface").facets, (Eigen::MatrixXi(2, 2) << 0, 1, 1, 2).finished());
+}
+
+TEST(MshSurface, AFileWithCellsIsReadAsBefore) {
+  const Mesh with_cells = parse_msh(test::kTinyTet, "tiny.msh", 3, BareSurface::accepted);
+  EXPECT_EQ(with_cells.num_cells(), 1);
+  EXPECT_EQ(with_cells.num_nodes(), 4);
+  EXPECT_EQ(with_cells.facet_groups.at("bottom").facets.col(0), Eigen::Vector3i(0, 2, 1));
+  EXPECT_FALSE(with_cells.facet_groups.contains("surface"));
+}
+
+TEST(MshSurfaceErrors, RejectedUnlessTheCallerAcceptsBareSurfaces) {
+  EXPECT_THAT(error_of(test::kTinySurface),
+              AllOf(HasSubstr("tiny.msh: no 4-node tetrahedra (element type 4) in the file (expected a 3D mesh"),
+                    HasSubstr("its 2 3-node triangles make a bare surface, which only a rigid body may be")));
+  EXPECT_THAT(error_of(test::kTinyLine2D, 2),
+              AllOf(HasSubstr("no 3-node triangles (element type 2)"), HasSubstr("its 2 2-node lines")));
+}
+
+TEST(MshSurfaceErrors, InconsistentOrientationNamesTheElementsAndTheShared) {
+  const auto accepted = BareSurface::accepted;
+  EXPECT_THAT(error_of(replace(test::kTinySurface, "2 3 1 2", "2 1 3 2"), 3, "tiny.msh", accepted),
+              AllOf(HasSubstr("tiny.msh:28: elements 1 and 2 share the edge from node 1 to node 3 in the same "
+                              "direction: the surface's facets are not consistently oriented")));
+  EXPECT_THAT(
+      error_of(replace(test::kTinyLine2D, "2 2 3", "2 3 2"), 2, "tiny.msh", accepted),
+      AllOf(HasSubstr("tiny.msh:22: elements 1 and 2 both end at node 2"), HasSubstr("not consistently oriented")));
+  EXPECT_THAT(error_of(replace(test::kTinyLine2D, "\n1 1 2\n", "\n1 2 1\n"), 2, "tiny.msh", accepted),
+              HasSubstr("tiny.msh:22: elements 1 and 2 both start at node 2"));
+}
+
+TEST(MshSurfaceErrors, DegenerateAndNonSimplexFacets) {
+  const auto accepted = BareSurface::accepted;
+  EXPECT_THAT(error_of(replace(test::kTinySurface, "2 3 1 2", "2 3 1 1"), 3, "tiny.msh", accepted),
+              HasSubstr("tiny.msh:28: element 2 is degenerate"));
+  EXPECT_THAT(error_of(replace(test::kTinySurface, "0 1 0\n$EndNodes", "2 2 0\n$EndNodes"), 3, "tiny.msh", accepted),
+              HasSubstr("tiny.msh:27: element 1 is degenerate"));  // (1,1), (2,2), (0,0) aligned
+  const std::string quads =
+      replace(test::kTinySurface, "1 2 1 2\n2 1 2 2\n1 3 4 1\n2 3 1 2\n", "1 1 1 1\n2 1 3 1\n1 1 2 3 4\n");
+  EXPECT_THAT(error_of(quads, 3, "tiny.msh", accepted),
+              AllOf(HasSubstr("tiny.msh:26: element type 3 (4-node quadrangle) in a surface mesh"),
+                    HasSubstr("conserve needs 3-node triangles")));
+  EXPECT_THAT(error_of(replace(test::kTinyLine2D, "-1 0 0\n", "-1 0 0.5\n"), 2, "tiny.msh", accepted),
+              HasSubstr("tiny.msh:16: node 3 has z = 0.5"));
 }
 
 }  // namespace
