@@ -34,7 +34,7 @@ constexpr int kLongestLuRun = 32;
 /// have at the limit, and the matrix goes to the LU (KrylovSolver::solve)
 /// without the cycles that would not have reached it. A restarted GMRES
 /// whose cycle barely lowers the residual stagnates (quasi-rigid bodies,
-/// docs/validation.md §7).
+/// docs/notes/validation-history.md).
 struct StagnationTest {
   PetscInt restart = kRestart;  ///< the KSP's restart length
   void* defaults = nullptr;     ///< KSPConvergedDefault's context

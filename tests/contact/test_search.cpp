@@ -282,7 +282,7 @@ TEST(Search, FollowStopsAtTheEndOfASegmentChain) {
 // its top face, which faces the way the slave's top does. Walking onto it
 // would hold the slave against the top, across the motion that presses it
 // (the whole-boundary rings of §6.2 did this in their first contact, and
-// Newton failed from step 15 on: docs/validation.md §4).
+// Newton failed from step 15 on: docs/notes/validation-history.md).
 TEST(Search, FollowDoesNotWalkOntoAFacetThatFacesTheSlavesWay) {
   const Scene<2> box(test::rectangle_mesh(5, 2, 1.0, 0.5), "boundary");
   auto m = box.find(Vec<2>(0.99, 0.45), settings_with(0.1));

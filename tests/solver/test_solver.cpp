@@ -192,7 +192,7 @@ TEST(KrylovSolver, ALooseToleranceTakesFewerIterationsAndIsNotExact) {
 /// the 200 iterations and returned their iterate, 3.4e-11 from the answer
 /// (this test failed: 200 iterations, no fallback); on §6.1's
 /// quasi-rigid discs most GMRES work went into such solves
-/// (docs/validation.md §7). The control, the 100 × 100 grid, converges
+/// (docs/notes/validation-history.md). The control, the 100 × 100 grid, converges
 /// steadily in 169 iterations, past two cycles, and must not be cut.
 TEST(KrylovSolver, ASolveThatCannotReachItsToleranceInTimeGoesToTheLuAfterOneCycle) {
   auto run = [](int m, Timings& timings) {
@@ -220,7 +220,7 @@ TEST(KrylovSolver, ASolveThatCannotReachItsToleranceInTimeGoesToTheLuAfterOneCyc
 /// same run go to the LU without a GMRES attempt: one, then after each
 /// attempt that stagnates again twice as many (Newton's next tangents are
 /// close to the last one, and on §6.1's spinning discs most of them
-/// stagnate, docs/validation.md §7). An attempt that converges ends it:
+/// stagnate, docs/notes/validation-history.md). An attempt that converges ends it:
 /// the next stagnation sends one matrix again. reset() forgets it all,
 /// like an unbroken run restarted from a checkpoint. The hard matrix is
 /// the 120 × 120 Laplacian to 1e-12 (stagnates, above), the easy one the

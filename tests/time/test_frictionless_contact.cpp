@@ -543,7 +543,7 @@ TEST(FrictionlessContact, ReducedTangentOfACreasePairMatchesDifferences) {
 // case here: pushing the slave out in a step (Constraint::push) was work
 // the block's deformation velocity, nil in its rigid flight, could not
 // give back, at any Δt down to the cutback floor (the §6.2 example met
-// this with a round-off change, docs/validation.md §7). Now the push-out
+// this with a round-off change, docs/notes/validation-history.md). Now the push-out
 // is given up (ActiveSet::hold_pushes) and the slave held where it
 // started (Constraint::hold), as the paper's scheme holds every slave;
 // the run goes on conserving.
