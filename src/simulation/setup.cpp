@@ -150,7 +150,9 @@ void add_loads(const io::Scenario& scenario, model::Model<D>& model) {
     try {
       load.facets = contact::make_surface<D>(model, load.body, spec.group).facets;
     } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", scenario.sources.locate(fmt::format("load[{}].group", i)), e.what()));
+      std::string what = e.what();
+      if (const std::string prefix = "contact surface: "; what.rfind(prefix, 0) == 0) what.erase(0, prefix.size());
+      throw InputError(fmt::format("{}: {}", scenario.sources.locate(fmt::format("load[{}].group", i)), what));
     }
     load.kind = spec.pressure ? model::SurfaceLoad::Kind::pressure : model::SurfaceLoad::Kind::traction;
     load.traction = spec.traction;

@@ -112,6 +112,18 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return text.replace(at, from.size(), to);
 }
 
+// A surface load on a group the body's mesh has not, on a rigid body, or
+// with both kinds: one line naming the file's line and the key.
+TEST(Rigid, BadSurfaceLoadsAreRefusedNamingTheKey) {
+  expect_check_fails("load_group", kBoxAndRisingSquare + "[[load]]\nbody = \"box\"\ngroup = \"lid\"\npressure = 1e3\n",
+                     "scenario.toml:36: load[0].group: body 'box' has no facet group 'lid' (groups: boundary, xmax");
+  expect_check_fails("load_rigid", kBoxAndRisingSquare + "[[load]]\nbody = \"floor\"\npressure = 1e3\n",
+                     "load[0].body: body 'floor' is rigid");
+  expect_check_fails("load_both",
+                     kBoxAndRisingSquare + "[[load]]\nbody = \"box\"\npressure = 1e3\ntraction = [1, 0, 0]\n",
+                     "load[0]: has both 'traction' and 'pressure'");
+}
+
 TEST(Rigid, DeformableBodyWithACenterIsRejected) {
   expect_check_fails("rigid_center", replaced(kBoxAndRisingSquare, "name = \"box\"\n", "name = \"box\"\ncenter = [0, 0, 0]\n"),
                      "body[0].center: is only allowed on a rigid body");
