@@ -67,6 +67,15 @@ void check_loads() {
                                    "curve = \"ramp\"\n"
                                  : "[[load]]\nbody = \"block\"\ngroup = \"xmin\"\ntraction = [2.0e3, 1.0e3]\n"
                                    "curve = \"ramp\"\n"));
+  std::string gravity = free_body(D, "");
+  gravity.insert(gravity.find("[[curve]]"), D == 3 ? "[loads]\ngravity = [0.0, -3.0, -9.81]\ngravity_curve = \"ramp\"\n"
+                                                   : "[loads]\ngravity = [-3.0, -9.81]\ngravity_curve = \"ramp\"\n");
+  const Balance ramped_gravity = run<D>(gravity);
+  std::printf("[ measured ] %dD gravity with a curve: E - load_work %.2e (load_work %.3e J)\n", D,
+              ramped_gravity.energy, ramped_gravity.work);
+  EXPECT_GT(std::abs(ramped_gravity.work), 1e-2);
+  EXPECT_EQ(ramped_gravity.potential, 0.0);  // its work is counted, not a potential
+  EXPECT_LT(ramped_gravity.energy, 1e-10);
   std::printf("[ measured ] %dD constant traction: E + potential drift %.2e (potential up to %.2e J); follower "
               "pressure with a curve: E - load_work %.2e, L %.2e, J %.2e (load_work %.3e J); traction with a curve: "
               "E - load_work %.2e (load_work %.3e J)\n",
