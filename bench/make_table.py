@@ -162,7 +162,7 @@ def main():
                 fmt(sec["assembly"]), fmt(sec["elimination"]), fmt(sec["linear_setup"]), fmt(sec["linear_solve"]),
                 fmt(sec["contact_search"]), fmt(sec["output"]), s.get("linear_solver", "—"),
                 fmt(s["linear_iterations"] / its if its else None),
-                fmt(r.get("peak_mb")), f"{s['energy_drift']:.1e}",
+                fmt(r.get("peak_mb")), f"{s['drift']['E']:.1e}",
             ]) + " |")
         if kind == "sweep":
             pts = [(r["s"]["unknowns"], r["s"]["wall_seconds"] / (r["s"]["mean_newton_iterations"] * r["s"]["steps"]),

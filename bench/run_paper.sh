@@ -112,7 +112,7 @@ run() {
   tail -n 5 "$work/runs/$name.log" | sed 's/^/   /'
   printf '%s\t%s\t%s\t%s\t%s\n' "$name" "$kind" "$scenario" "${steps:-all}" "$rc" >> "$manifest"
   if [ "$rc" -eq 0 ] && [ "$plots" -eq 1 ] && [ "$kind" = paper ]; then
-    /usr/bin/python3 scripts/plot_history.py "$dir/history.csv" --scenario "$scenario" | sed 's/^/   /' || true
+    /usr/bin/python3 scripts/plot_history.py "$dir/history.csv" | sed 's/^/   /' || true
     /usr/bin/python3 scripts/render_snapshots.py "$dir" --count 6 | sed 's/^/   /' || true
   fi
 }

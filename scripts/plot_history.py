@@ -1,8 +1,7 @@
 #!/usr/bin/python3
 """Plots a conserve history.csv like the paper's Figures 4-6, 9-11 and 14.
 
-Usage: /usr/bin/python3 scripts/plot_history.py out/NAME/history.csv
-           [--out DIR] [--scenario SCENARIO.toml]
+Usage: /usr/bin/python3 scripts/plot_history.py out/NAME/history.csv [--out DIR]
 
 Writes, next to the history (or in DIR):
   energy.png          kinetic, elastic (strain), potential and total energy
@@ -12,15 +11,16 @@ Writes, next to the history (or in DIR):
                       in the Newton's cradle of the paper's section 6.1)
   contact.png         active contacts and total normal contact force
                       (only when the history has contact columns)
-  drift.png           relative drift of E, |L|, |J| on a log scale, which
-                      is what shows conservation
-With --scenario, drift.png also says which quantities the scenario is
-expected to conserve (gravity, fixed bodies, prescribed displacements and
-stick friction remove some), draws the others dashed, and adds the
-conserved components of L and J when their norms are not conserved.
+  reactions.png       each support's reaction against its displacement
+                      (only when the run has supports or rigid tools)
+  drift.png           the drifts conserve reports (history.csv's drift_E,
+                      drift_L, drift_J) on a log scale; the summary.json
+                      beside the history names the components of L and J
+                      they cover and why the others are not conserved
 """
 import argparse
 import csv
+import json
 import pathlib
 import sys
 
@@ -53,85 +53,6 @@ def save(fig, path):
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
-
-
-# --------------------------------------------------------------------------
-# What the scenario should conserve
-
-
-def expected_conservation(scenario_path):
-    """Returns (E, L[3], J[3], reasons): booleans for the total energy and for
-    each component of the linear and angular momentum (about the origin),
-    read from the scenario's external actions:
-      - gravity g: a force along g on every body (E keeps it in the
-        potential; L is lost along g, J except about the axis along g);
-      - a rigid (fixed or moving) body or a [[boundary]]: a reaction of any
-        direction, except a rigid bare `square`/`segment` touched only by
-        frictionless contact, which pushes along its normal (+z or +y);
-      - a moving rigid body or a nonzero prescribed rate does work (E lost);
-      - stick contact conserves L but not J (paper section 4)."""
-    try:
-        import tomllib
-    except ImportError:  # Python < 3.11
-        return None
-    with open(scenario_path, "rb") as f:
-        s = tomllib.load(f)
-    dim = int(s.get("dimension", 3))
-    energy, reasons = True, []
-    directions = []  # external force directions (unit vectors), or "any"
-    any_direction = False
-    g = np.array(list(s.get("loads", {}).get("gravity", [0.0] * dim)) + [0.0] * (3 - dim), dtype=float)
-    if np.linalg.norm(g) > 0:
-        directions.append(g / np.linalg.norm(g))
-        reasons.append("gravity")
-    bodies = {b["name"]: b for b in s.get("body", [])}
-    contacts = s.get("contact", [])
-
-    def body_of(surface):
-        return surface.split(":")[0]
-
-    for name, b in bodies.items():
-        if not b.get("rigid", False):
-            continue
-        pairs = [c for c in contacts if body_of(c["master"]) == name or body_of(c["slave"]) == name]
-        if not pairs:
-            continue  # touches nothing: exerts nothing
-        v = np.array(b.get("velocity", [0.0] * dim), dtype=float)
-        if np.linalg.norm(v) > 0:
-            energy = False
-            reasons.append(f"moving rigid body '{name}' (work)")
-        generator = b.get("mesh", {}).get("generator", "")
-        flat = generator in ("square", "segment")
-        if flat and all(c.get("kind") == "frictionless" for c in pairs):
-            directions.append(np.array([0.0, 0.0, 1.0]) if generator == "square" else np.array([0.0, 1.0, 0.0]))
-            reasons.append(f"frictionless reaction of rigid '{name}' along its normal")
-        else:
-            any_direction = True
-            reasons.append(f"reaction of rigid '{name}'")
-    for bc in s.get("boundary", []):
-        any_direction = True
-        reasons.append(f"prescribed displacement on '{bc.get('body', '?')}'")
-        if any(float(r) != 0.0 for r in bc.get("rate", [])):
-            energy = False
-            reasons.append("prescribed rate (work)")
-    stick = any(c.get("kind") == "stick" for c in contacts)
-    if any_direction:
-        L = [False] * 3
-        J = [False] * 3
-    else:
-        e = np.eye(3)
-        # L_e is conserved iff every external force is orthogonal to e; J_e
-        # (about the origin, forces at arbitrary points) iff every external
-        # force is parallel to e.
-        L = [all(abs(d @ e[k]) < 1e-12 for d in directions) for k in range(3)]
-        J = [all(np.linalg.norm(np.cross(d, e[k])) < 1e-12 for d in directions) for k in range(3)]
-    if stick:
-        J = [False] * 3
-        reasons.append("stick friction (J not conserved)")
-    if dim == 2:  # only L_x, L_y and J_z exist
-        L[2] = False
-        J[0] = J[1] = False
-    return {"E": energy, "L": L, "J": J, "dim": dim, "reasons": reasons}
 
 
 # --------------------------------------------------------------------------
@@ -213,93 +134,102 @@ def plot_contact(h, out):
     return "contact.png"
 
 
-def plot_drift(h, out, expected, dim):
-    """Relative drift |q(t) - q(0)| / q_ref, the figures conserve itself
-    reports (history columns drift_E, drift_L, drift_J; for L and J the
-    norm of the vector change). The references never vanish while anything
-    moves: E_ref is the largest K + W seen so far, L_ref the largest sum of
-    the nodes' momentum magnitudes, J_ref = L_ref times the model's size."""
+def conservation(history):
+    """(drift keys, not_conserved) of the summary.json beside the history,
+    or None while the run has not written it."""
+    summary = history.parent / "summary.json"
+    try:
+        with open(summary) as f:
+            s = json.load(f)
+        return list(s["drift"]), s["not_conserved"]
+    except (OSError, ValueError, KeyError):
+        return None
+
+
+def plot_drift(h, out, conserved):
+    """The drifts conserve reports: the largest deviation so far over the
+    run's scale so far, for E (total + released) and the largest of the
+    conserved components of L and of J (empty fields when none is)."""
     t = h["time"][1:]
-    L, J = vec(h, "L"), vec(h, "J")
-    series = {"E": h["drift_E"], "|L|": h["drift_L"], "|J|": h["drift_J"]}
-
-    def component(arr, drift, k):
-        """|q_k(t) - q_k(0)| / q_ref, from the norm's drift and change."""
-        change = np.linalg.norm(arr - arr[0], axis=1)
-        part = np.abs(arr[:, k] - arr[0, k])
-        return np.divide(drift * part, change, out=np.zeros_like(part), where=change > 0)
-
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    colours = {"E": "C0", "|L|": "C1", "|J|": "C2"}
-    if expected is None:
-        for label, d in series.items():
-            ax.semilogy(t, np.maximum(d[1:], 1e-17), color=colours[label], label=label)
-        title = "Conservation: relative drift |q(t) − q(0)| / q_ref"
-        note = "expected conservation unknown (pass --scenario)"
-    else:
-        flags = {
-            "E": expected["E"],
-            "|L|": all(expected["L"][: dim]),
-            "|J|": all(expected["J"]) if dim == 3 else expected["J"][2],
-        }
-        for label, d in series.items():
-            ok = flags[label]
-            ax.semilogy(t, np.maximum(d[1:], 1e-17), color=colours[label], ls="-" if ok else ":", lw=1.5 if ok else 1,
-                        label=f"{label} ({'conserved' if ok else 'not conserved'})")
-        # conserved components whose norm is not conserved
-        for name, arr, flag_key, cols in [("L", L, "|L|", ("C1", "C3", "C5")), ("J", J, "|J|", ("C2", "C4", "C6"))]:
-            if flags[flag_key]:
-                continue
-            for k, c in enumerate(AXES):
-                if expected[name][k]:
-                    d = component(arr, series[flag_key], k)
-                    ax.semilogy(t, np.maximum(d[1:], 1e-17), color=cols[k], ls="-", lw=1,
-                                label=f"{name}_{c} (conserved)")
-        title = "Conservation: relative drift |q(t) − q(0)| / q_ref"
-        note = "solid: expected conserved; dotted: not expected"
-        if expected["reasons"]:
-            note += "\n(" + "; ".join(dict.fromkeys(expected["reasons"])) + ")"
-    ax.set(xlabel="time [s]", ylabel="relative drift", title=title)
+    note = "which components are conserved: in summary.json (not written yet)"
+    labels = {"E": "E", "L": "L", "J": "J"}
+    if conserved:
+        keys, others = conserved
+        for q in ("L", "J"):
+            comps = [k for k in keys if k.startswith(q + "_")]
+            labels[q] = f"{q} ({', '.join(comps)})" if comps else q
+        note = "not conserved: " + ("; ".join(f"{k} ({why})" for k, why in others.items()) if others else "none")
+    drifts = {}
+    for q, column, colour in (("E", "drift_E", "C0"), ("L", "drift_L", "C1"), ("J", "drift_J", "C2")):
+        d = h[column][1:]
+        if np.all(np.isnan(d)):
+            continue
+        ax.semilogy(t, np.maximum(d, 1e-17), color=colour, label=labels[q])
+        drifts[labels[q]] = float(d[~np.isnan(d)][-1])  # the run's: its last row
+    ax.set(xlabel="time [s]", ylabel="drift", title="Conservation: largest |q − q0| so far / the run's scale")
     ax.text(0.01, 0.01, note, transform=ax.transAxes, fontsize=7, va="bottom", ha="left",
             bbox=dict(facecolor="white", alpha=0.7, lw=0))
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     ax.grid(alpha=0.3, which="both")
     save(fig, out / "drift.png")
-    return {k: float(v.max()) for k, v in series.items()}
+    return drifts
+
+
+def plot_reactions(h, out):
+    """Each support's reaction along its largest component against its
+    displacement along the same axis (a rigid tool's force–indentation
+    curve), or against time for a support that does not move."""
+    names = [k[len("work:"):] for k in h if k.startswith("work:")]
+    if not names:
+        return None
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    moving = False
+    for n in names:
+        R = np.stack([h[f"R_{c}:{n}"] for c in AXES], axis=1)
+        u = np.stack([h[f"u_{c}:{n}"] for c in AXES], axis=1)
+        k = int(np.argmax(np.abs(R).max(axis=0)))
+        if np.abs(u[:, k]).max() > 0:
+            moving = True
+            sign = np.sign(u[np.argmax(np.abs(u[:, k])), k])  # the way it moves: drawn positive
+            pre = "" if sign > 0 else "−"
+            ax.plot(sign * u[:, k], sign * R[:, k], label=f"{n}: {pre}R_{AXES[k]} against {pre}u_{AXES[k]}")
+    if not moving:
+        plt.close(fig)
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+    for n in names:
+        R = np.stack([h[f"R_{c}:{n}"] for c in AXES], axis=1)
+        u = np.stack([h[f"u_{c}:{n}"] for c in AXES], axis=1)
+        k = int(np.argmax(np.abs(R).max(axis=0)))
+        if not moving:
+            ax.plot(h["time"], R[:, k], label=f"{n}: R_{AXES[k]}")
+    ax.set(xlabel="displacement [m]" if moving else "time [s]", ylabel="reaction [N]",
+           title="Reactions of the supports and rigid tools")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    save(fig, out / "reactions.png")
+    return "reactions.png"
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("history", type=pathlib.Path)
     p.add_argument("--out", type=pathlib.Path, help="folder of the PNGs (default: the history's folder)")
-    p.add_argument("--scenario", type=pathlib.Path,
-                   help="the run's scenario file: marks the quantities it should conserve")
     args = p.parse_args()
     out = args.out or args.history.parent
     out.mkdir(parents=True, exist_ok=True)
     h = read(args.history)
-    expected = None
-    if args.scenario:
-        try:
-            expected = expected_conservation(args.scenario)
-        except (OSError, ValueError, KeyError, TypeError) as e:
-            print(f"plot_history: {args.scenario}: not used ({e})", file=sys.stderr)
-    dim = expected["dim"] if expected else (2 if not (np.any(h["L_z"]) or np.any(h["J_x"]) or np.any(h["J_y"])) else 3)
+    dim = 2 if not (np.any(h["L_z"]) or np.any(h["J_x"]) or np.any(h["J_y"])) else 3
     written = ["energy.png", "momentum.png"]
     plot_energy(h, out)
     plot_momentum(h, out, dim)
-    for extra in (plot_body_momentum(h, out, dim), plot_contact(h, out)):
+    for extra in (plot_body_momentum(h, out, dim), plot_contact(h, out), plot_reactions(h, out)):
         if extra:
             written.append(extra)
-    drift = plot_drift(h, out, expected, dim)
+    drift = plot_drift(h, out, conservation(args.history))
     written.append("drift.png")
     print("plots: " + " ".join(f"{out}/{w}" for w in written))
-    print("max relative drift: " + "  ".join(f"{k} {v:.2e}" for k, v in drift.items()))
-    if expected:
-        keep = ["E"] if expected["E"] else []
-        keep += [f"L_{c}" for k, c in enumerate(AXES) if expected["L"][k]]
-        keep += [f"J_{c}" for k, c in enumerate(AXES) if expected["J"][k]]
-        print("expected conserved: " + (", ".join(keep) if keep else "none"))
+    print("drift: " + "  ".join(f"{k} {v:.2e}" for k, v in drift.items()))
 
 
 if __name__ == "__main__":

@@ -9,6 +9,6 @@ name="$(basename "$scenario" .toml)"
 bash scripts/build.sh release
 ./build/release/conserve run "$scenario" -o "out/$name"
 if [ -x /usr/bin/python3 ]; then
-  /usr/bin/python3 scripts/plot_history.py "out/$name/history.csv" --scenario "$scenario"
+  /usr/bin/python3 scripts/plot_history.py "out/$name/history.csv"
   /usr/bin/python3 scripts/render_snapshots.py "out/$name" --count 6 || echo "(snapshots skipped)"
 fi

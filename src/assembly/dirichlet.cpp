@@ -6,10 +6,11 @@ namespace conserve::assembly {
 
 DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs)
     : dofs_(dofs),
+      fixed_(static_cast<std::size_t>(A.cols()), 0),
       outer_(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1),
       inner_(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros()) {
-  std::vector<char> fixed(A.cols(), 0);
-  for (int d : dofs) fixed[d] = 1;
+  for (int d : dofs) fixed_[static_cast<std::size_t>(d)] = 1;
+  const std::vector<char>& fixed = fixed_;
   for (int col = 0; col < A.cols(); ++col)
     for (int p = A.outerIndexPtr()[col]; p < A.outerIndexPtr()[col + 1]; ++p) {
       const int row = A.innerIndexPtr()[p];

@@ -8,6 +8,7 @@
 /// finish_step() once the step is taken. A method owns its state; one
 /// serialisation (save/load) serves both the stepper's retries and the
 /// checkpoints.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -134,7 +135,10 @@ struct ContactForce {
   Vec3 moment = Vec3::Zero();     ///< its moment about the origin, at the slave's mid-point position [N m]
   double work = 0.0;              ///< its work on the slave over the step [J]
   Vec<D> impulse = Vec<D>::Zero();  ///< an impulse at the step's end (persistent contact) [N s]
-  Vec3 impulse_moment = Vec3::Zero();  ///< its moment about the origin at the slave's end position [N m s]
+  /// The master facet's nodes and the weights N_b(ξ) with which they took
+  /// the opposite of `impulse` (a prescribed master's reaction).
+  std::array<int, D> master{};
+  Vec<D> weights = Vec<D>::Zero();
 };
 
 /// a × b for D-vectors as a 3-vector (2D: along z).

@@ -7,6 +7,7 @@ State rest_state(const Model<D>& model) {
   State s;
   s.u.setZero(model.num_dofs());
   s.v.setZero(model.num_dofs());
+  s.support_work.assign(model.prescribed.supports.size(), 0.0);
   return s;
 }
 

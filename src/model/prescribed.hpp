@@ -3,6 +3,7 @@
 /// ([[boundary]]) and the rigid motions of rigid bodies, evaluated at a
 /// time. Plain data (built by simulation/setup) and their evaluation.
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "core/types.hpp"
@@ -35,6 +36,14 @@ struct RigidMotion {
   int omega_curve = -1;
 };
 
+/// What holds or drives a set of prescribed dofs: a [[boundary]] group
+/// ("BODY:GROUP"; the boundaries of one group merged) or a rigid body (its
+/// name). Its reaction and work are reported (time/integrator.hpp).
+struct Support {
+  std::string name;
+  std::vector<int> entries;  ///< indices into Prescribed::dofs
+};
+
 /// Prescribed degrees of freedom: u[dofs[i]](t) = value[i] · c(t) + rate[i] · t
 /// (c the dof's curve, 1 without one), except the dofs of rigid motions,
 /// which follow their motion.
@@ -45,6 +54,9 @@ struct Prescribed {
   std::vector<int> curve;     ///< per dof: index into `curves`, −1 none
   std::vector<Curve> curves;
   std::vector<RigidMotion> rigid;
+  /// Every dof belongs to one support; supports in the scenario's order
+  /// (boundaries, then rigid bodies).
+  std::vector<Support> supports;
 };
 
 /// Sets the prescribed dofs of u (and of v, if given, to their exact

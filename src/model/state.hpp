@@ -2,6 +2,7 @@
 /// The state of a run at one instant: flat node-major vectors.
 #include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 namespace conserve::model {
 
@@ -13,6 +14,13 @@ struct State {
   /// Work done on the bodies since t = 0 by the loads that have no
   /// potential (curves, follower pressure) [J]: E − load_work is conserved.
   double load_work = 0.0;
+  /// Per support (Prescribed::supports), the work its prescribed motion
+  /// has done on the bodies since t = 0 [J]: E − load_work − Σ support_work
+  /// is conserved.
+  std::vector<double> support_work;
+  /// Energy contact let go of outside the steps' balance since t = 0 (a
+  /// penalty's released springs) [J]: counted with E in the drift.
+  double released = 0.0;
 };
 
 }  // namespace conserve::model

@@ -30,17 +30,17 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// step and the lengths of the last two steps (located releases).
 /// 13: the contact method's state as its own bytes (contact::Method::save).
 /// 14: a penalty force's pair and whole vector; the state's load work.
-constexpr std::uint32_t kVersion = 14;
+/// 15: the state's work of each support and released energy; the drifts'
+/// deviations instead of their ratios.
+constexpr std::uint32_t kVersion = 15;
 
 using Writer = ByteWriter;
 using Reader = ByteReader;
 
 void write_totals(Writer& w, const RunTotals& t) {
-  w.value(t.energy_drift);
-  w.doubles(t.linear_drift.data(), 3);
-  w.doubles(t.angular_drift.data(), 3);
-  w.value(t.energy_reference);
-  w.value(t.momentum_reference);
+  w.doubles(t.drift.deviation.data(), t.drift.deviation.size());
+  w.value(t.drift.energy_reference);
+  w.value(t.drift.momentum_reference);
   const std::vector<std::string> keys = RunStatistics::keys();
   w.value(static_cast<std::uint64_t>(keys.size()));
   for (std::size_t k = 0; k < keys.size(); ++k) {
@@ -54,11 +54,9 @@ void write_totals(Writer& w, const RunTotals& t) {
 /// statistics is refused naming the first that differs.
 RunTotals read_totals(Reader& r) {
   RunTotals t;
-  t.energy_drift = r.value<double>();
-  r.doubles(t.linear_drift.data(), 3, "the linear drift");
-  r.doubles(t.angular_drift.data(), 3, "the angular drift");
-  t.energy_reference = r.value<double>();
-  t.momentum_reference = r.value<double>();
+  r.doubles(t.drift.deviation.data(), t.drift.deviation.size(), "the deviations");
+  t.drift.energy_reference = r.value<double>();
+  t.drift.momentum_reference = r.value<double>();
   const std::vector<std::string> keys = RunStatistics::keys();
   const auto count = r.value<std::uint64_t>();
   if (count != keys.size())
@@ -151,6 +149,9 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.doubles(c.state.u.data(), c.state.u.size());
   w.doubles(c.state.v.data(), c.state.v.size());
   w.value(c.state.load_work);
+  w.value(static_cast<std::uint64_t>(c.state.support_work.size()));
+  w.doubles(c.state.support_work.data(), c.state.support_work.size());
+  w.value(c.state.released);
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
   w.value(static_cast<std::int64_t>(c.control.cutbacks));
@@ -197,6 +198,10 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   r.doubles(c.state.u.data(), c.state.u.size(), "the displacement");
   r.doubles(c.state.v.data(), c.state.v.size(), "the velocity");
   c.state.load_work = r.value<double>();
+  if (r.value<std::uint64_t>() != model.prescribed.supports.size()) r.fail("the supports differ from the scenario's");
+  c.state.support_work.resize(model.prescribed.supports.size());
+  r.doubles(c.state.support_work.data(), c.state.support_work.size(), "the supports' work");
+  c.state.released = r.value<double>();
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
   c.control.cutbacks = r.value<std::int64_t>();

@@ -12,6 +12,7 @@
 #include "io/scenario.hpp"
 #include "model/model.hpp"
 #include "model/state.hpp"
+#include "simulation/drift.hpp"
 #include "simulation/fingerprint.hpp"
 #include "simulation/statistics.hpp"
 
@@ -19,12 +20,8 @@ namespace conserve::simulation {
 
 /// The run's accumulators that summary.json reports.
 struct RunTotals {
-  double energy_drift = 0.0;          ///< largest |E − E0| / E_ref (simulation/drift.hpp)
-  Vec3 linear_drift = Vec3::Zero();   ///< per component, largest |L_i − L_i0| / L_ref
-  Vec3 angular_drift = Vec3::Zero();  ///< per component, largest |J_i − J_i0| / J_ref
-  double energy_reference = 0.0;      ///< E_ref: largest K + W so far [J]
-  double momentum_reference = 0.0;    ///< L_ref: largest Σ|(MV)_A| so far [kg m/s]
-  RunStatistics statistics;           ///< simulation/statistics.hpp
+  DriftState drift;          ///< simulation/drift.hpp
+  RunStatistics statistics;  ///< simulation/statistics.hpp
 };
 
 /// The adaptive step size: halved on a failed step, doubled back (up to

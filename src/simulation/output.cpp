@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "contact/debug_output.hpp"
 #include "core/error.hpp"
@@ -13,7 +14,7 @@ namespace conserve::simulation {
 
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names,
                                          const std::vector<std::string>& pair_names,
-                                         const std::vector<std::string>& rigid_names) {
+                                         const std::vector<std::string>& support_names) {
   std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
                                 "J_x",  "J_y",  "J_z"};
   for (const Statistic& s : statistics())
@@ -23,9 +24,9 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
   for (const auto& name : pair_names)
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("F_{}:{}", axis, name));
-  for (const auto& name : rigid_names) {
-    for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("R_{}:{}", axis, name));
-    for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("M_{}:{}", axis, name));
+  for (const auto& name : support_names) {
+    for (const char* quantity : {"R", "M", "u"})
+      for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("{}_{}:{}", quantity, axis, name));
     c.push_back("work:" + name);
   }
   return c;
@@ -39,29 +40,10 @@ std::vector<std::string> body_names(const model::Model<D>& model) {
   return names;
 }
 
-/// The bodies whose surface is the rigid master of a pair, in body order,
-/// and per pair the index among them of its master (−1: not rigid).
 template <int D>
-std::vector<int> rigid_masters(contact::Method<D>* contacts, std::vector<int>& pair_rigid) {
-  std::vector<int> bodies;
-  pair_rigid.clear();
-  if (!contacts) return bodies;
-  for (const auto& p : contacts->pairs())
-    if (p.master.rigid) bodies.push_back(p.master.body);
-  std::sort(bodies.begin(), bodies.end());
-  bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
-  for (const auto& p : contacts->pairs())
-    pair_rigid.push_back(p.master.rigid ? static_cast<int>(std::lower_bound(bodies.begin(), bodies.end(),
-                                                                            p.master.body) - bodies.begin())
-                                        : -1);
-  return bodies;
-}
-
-template <int D>
-std::vector<std::string> rigid_names(const model::Model<D>& model, contact::Method<D>* contacts) {
-  std::vector<int> unused;
+std::vector<std::string> support_names(const model::Model<D>& model) {
   std::vector<std::string> names;
-  for (int b : rigid_masters<D>(contacts, unused)) names.push_back(model.bodies[b].name);
+  for (const auto& s : model.prescribed.supports) names.push_back(s.name);
   return names;
 }
 
@@ -101,6 +83,20 @@ double facet_measure(const contact::ContactSurface& surface, int f, const contac
   }
 }
 
+/// The mean displacement of the nodes of support `s` (of the dofs it
+/// prescribes: a component it leaves free counts as 0) [m].
+template <int D>
+Vec3 mean_displacement(const model::Model<D>& model, const model::Support& s, const Eigen::VectorXd& u) {
+  Vec3 sum = Vec3::Zero();
+  std::set<int> nodes;
+  for (int e : s.entries) {
+    const int d = model.prescribed.dofs[static_cast<std::size_t>(e)];
+    sum[d % D] += u[d];
+    nodes.insert(d / D);
+  }
+  return nodes.empty() ? sum : sum / static_cast<double>(nodes.size());
+}
+
 std::filesystem::path prepared(const std::filesystem::path& dir, int vtu_every) {
   std::error_code ec;
   std::filesystem::create_directories(vtu_every > 0 ? dir / "vtu" : dir, ec);
@@ -120,8 +116,7 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
       vtu_every_(spec.vtu_every),
       format_{.compress = spec.compress, .single_precision = spec.single_precision},
       history_(directory / "history.csv", history_columns(body_names(assembler.model()), pair_names<D>(contacts),
-                                                          rigid_names<D>(assembler.model(), contacts))) {
-  rigid_bodies_ = rigid_masters<D>(contacts, pair_rigid_);
+                                                          support_names<D>(assembler.model()))) {
   if (resume_time) last_time_ = *resume_time;
   add_bare_surfaces<D>(assembler.model(), surface_facets_, surface_body_);
   if (spec.vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
@@ -150,28 +145,21 @@ void OutputWriter<D>::write(const model::State& state, const StepFigures& figure
   for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
   if (contacts_) {
     // What each pair's master gave its slaves over the step, as mean
-    // forces (the persistency impulses spread over the step); a rigid
-    // master took the opposite: its reaction, moment and work.
+    // forces (the persistency impulses spread over the step).
     const double dt = state.time - last_time_;
     const double per_time = dt > 0.0 ? 1.0 / dt : 0.0;
     std::vector<Vec3> pair_force(contacts_->pairs().size(), Vec3::Zero());
-    std::vector<Vec3> reaction(rigid_bodies_.size(), Vec3::Zero()), moment = reaction;
-    std::vector<double> work(rigid_bodies_.size(), 0.0);
-    for (const auto& f : contacts_->contact_forces()) {
-      Vec3 force = Vec3::Zero();
-      force.template head<D>() = f.force + per_time * f.impulse;
-      pair_force.at(f.pair) += force;
-      if (const int r = pair_rigid_.at(f.pair); r >= 0) {
-        reaction[r] -= force;
-        moment[r] -= f.moment + per_time * f.impulse_moment;
-        work[r] += f.work;
-      }
-    }
+    for (const auto& f : contacts_->contact_forces())
+      pair_force.at(f.pair).template head<D>() += f.force + per_time * f.impulse;
     for (const Vec3& F : pair_force) row.insert(row.end(), {F.x(), F.y(), F.z()});
-    for (std::size_t r = 0; r < rigid_bodies_.size(); ++r) {
-      row.insert(row.end(), {reaction[r].x(), reaction[r].y(), reaction[r].z()});
-      row.insert(row.end(), {moment[r].x(), moment[r].y(), moment[r].z(), work[r]});
-    }
+  }
+  const auto& supports = assembler_.model().prescribed.supports;
+  for (std::size_t s = 0; s < supports.size(); ++s) {
+    const time::SupportReaction r = s < figures.record.supports.size() ? figures.record.supports[s]
+                                                                       : time::SupportReaction{};
+    row.insert(row.end(), {r.force.x(), r.force.y(), r.force.z(), r.moment.x(), r.moment.y(), r.moment.z()});
+    const Vec3 u = mean_displacement<D>(assembler_.model(), supports[s], state.u);
+    row.insert(row.end(), {u.x(), u.y(), u.z(), state.support_work.at(s)});
   }
   last_time_ = state.time;
   history_.write_row(row);

@@ -19,13 +19,15 @@ namespace conserve::simulation {
 /// Column names of history.csv, in order: the totals, then each body's
 /// linear momentum "L_x:NAME", "L_y:NAME", "L_z:NAME", then each contact
 /// pair's force on its slave side "F_x:SLAVE>MASTER", … (surfaces as
-/// "body:group"), then each rigid master's reaction "R_x:NAME", …, its
-/// moment about the origin "M_x:NAME", … and the work it did in the step
-/// "work:NAME". A NaN value (e.g. min_active_gap with no active slave) is
-/// written as an empty field.
+/// "body:group"), then per support (a [[boundary]] group "BODY:GROUP" or a
+/// rigid body "NAME", model::Support) its reaction "R_x:NAME", …, the
+/// reaction's moment about the origin "M_x:NAME", …, the mean
+/// displacement of its nodes "u_x:NAME", … and the work it has done since
+/// t = 0 "work:NAME". A NaN value (e.g. min_active_gap with no active
+/// slave) is written as an empty field.
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {},
                                          const std::vector<std::string>& pair_names = {},
-                                         const std::vector<std::string>& rigid_names = {});
+                                         const std::vector<std::string>& support_names = {});
 
 template <int D>
 class OutputWriter {
@@ -63,10 +65,6 @@ class OutputWriter {
   Eigen::MatrixXi surface_facets_;
   std::vector<int> surface_body_;
   contact::Method<D>* contacts_;
-  /// The rigid master bodies (a pair's master surface all prescribed),
-  /// in body order, and per pair the index among them of its master (−1).
-  std::vector<int> rigid_bodies_;
-  std::vector<int> pair_rigid_;
   double last_time_ = 0.0;  ///< time of the last row (the step's length)
   bool contact_state_;
   std::filesystem::path directory_;

@@ -66,7 +66,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const Fingerprint fingerprint = scenario_fingerprint<D>(sc, problem.model);
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
-  const DriftTracker drift(problem.model.size(), d0);
+  const DriftTracker drift(problem.model.size(), d0, conservation(sc));
   RunTotals totals;
   if (options.restart) {
     Checkpoint<D> c = read_checkpoint<D>(*options.restart, fingerprint, problem.model);
@@ -89,7 +89,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   if (!options.restart) {
     const StepRecord none;
     const StepFigures figures = figures_of<D>(none, d0, contact);
-    output.write(state, figures, drift.add(d0, totals), finished(sc.time, state) || max_steps == 0);
+    output.write(state, figures, drift.add(d0, totals.drift), finished(sc.time, state) || max_steps == 0);
     totals.statistics.add(figures, false);
     steps_csv.write_row({0.0, state.time, 0.0, 0.0});
   }
@@ -129,7 +129,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     time::Diagnostics d = time::diagnostics<D>(assembler, state);
     d.contact = record.contact.contact_energy;  // the springs' stored energy counts in the total
     d.total += d.contact;
-    const Drifts drifts = drift.add(d, totals);
+    const Drifts drifts = drift.add(d, totals.drift);
     const StepFigures figures = figures_of<D>(record, d, contact);
     const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
     {
@@ -159,13 +159,12 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   }
   progress.finish();
   summary.steps = taken;
-  summary.energy_drift = totals.energy_drift;
-  summary.linear_drift = totals.linear_drift;
-  summary.angular_drift = totals.angular_drift;
+  for (int q = 0; q < kQuantities; ++q) {
+    summary.drift[q] = drift.drift(q, totals.drift);
+    summary.reference[q] = drift.reference(q, totals.drift);
+  }
+  summary.conservation = drift.conservation();
   summary.statistics = totals.statistics;
-  summary.energy_reference = totals.energy_reference;
-  summary.momentum_reference = totals.momentum_reference;
-  summary.angular_reference = totals.momentum_reference * problem.model.size();
   summary.cutbacks = control.cutbacks - first_cutbacks;
   summary.thread_policy = stepper.threads().policy();
   summary.fewest_threads = stepper.threads().fewest();

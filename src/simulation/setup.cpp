@@ -105,6 +105,13 @@ int curve_index(const io::Scenario& scenario, const std::string& name) {
   throw InputError(fmt::format("{}: no [[curve]] named '{}'", scenario.file.string(), name));  // the parser checks
 }
 
+/// The support named `name`, appended if there is none yet.
+model::Support& support_named(model::Prescribed& prescribed, const std::string& name) {
+  for (model::Support& s : prescribed.supports)
+    if (s.name == name) return s;
+  return prescribed.supports.emplace_back(model::Support{name, {}});
+}
+
 /// Every dof of a rigid body. A translation at a constant velocity is
 /// u = velocity · t exactly; a turning or curve-driven body follows its
 /// rigid motion (model/prescribed.hpp).
@@ -112,8 +119,10 @@ template <int D>
 void prescribe_rigid(const io::Scenario& scenario, const io::BodySpec& spec, const model::Body& body,
                      const model::Model<D>& model, model::Prescribed& prescribed) {
   const bool plain = spec.angular_velocity.isZero() && spec.velocity_curve.empty() && spec.angular_velocity_curve.empty();
+  model::Support& support = support_named(prescribed, body.name);
   for (int n = body.first_node; n < body.first_node + body.num_nodes; ++n)
     for (int k = 0; k < D; ++k) {
+      support.entries.push_back(static_cast<int>(prescribed.dofs.size()));
       prescribed.dofs.push_back(model::dof<D>(n, k));
       prescribed.value.push_back(0.0);
       prescribed.rate.push_back(plain ? spec.velocity[k] : 0.0);
@@ -191,12 +200,14 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}: {}", where(i, "group"), e.what()));
     }
+    model::Support& support = support_named(model.prescribed, bc.body + ":" + bc.group);
     for (int n : nodes)
       for (int k : bc.components) {
         const int d = model::dof<D>(n, k);
         if (!seen.insert(d).second)
           throw InputError(fmt::format("{}: node {} component {} of body '{}' is already prescribed",
                                        where(i, "components"), n - body->first_node, "xyz"[k], bc.body));
+        support.entries.push_back(static_cast<int>(model.prescribed.dofs.size()));
         model.prescribed.dofs.push_back(d);
         model.prescribed.value.push_back(bc.value[k]);
         model.prescribed.rate.push_back(bc.rate[k]);

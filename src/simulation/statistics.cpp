@@ -69,6 +69,7 @@ const std::vector<Statistic>& statistics() {
       {"contact_energy", [](F f) { return f.diagnostics.contact; }, {{"max_contact_energy", Over::max}}},
       {"contact_released", [](F f) { return contact_of(f).contact_released; }, {{"contact_released", Over::sum}}},
       {"load_work", [](F f) { return f.diagnostics.load_work; }},
+      {"support_work", [](F f) { return f.diagnostics.support_work; }},
       {"equations", [](F f) { return double(contact_of(f).equations); },
        {{"mean_equations", Over::mean}, {"max_equations", Over::max, true}}},
   };

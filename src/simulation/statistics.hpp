@@ -12,6 +12,7 @@
 #include "contact/method.hpp"
 #include "solver/newton.hpp"
 #include "time/diagnostics.hpp"
+#include "time/integrator.hpp"
 
 namespace conserve::simulation {
 
@@ -19,6 +20,7 @@ namespace conserve::simulation {
 struct StepRecord {
   solver::NewtonReport newton;
   contact::StepContactStats contact;
+  std::vector<time::SupportReaction> supports;  ///< per support (model::Prescribed::supports); empty: none yet
 };
 
 /// What one step produced, as the statistics read it.

@@ -92,7 +92,7 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       }
       stats.splits = splits;
       stats.split_passes = split_passes;
-      StepRecord record{report, stats};
+      StepRecord record{report, stats, integrator_->supports()};
       control_.previous_dt = control_.last_dt;
       control_.last_dt = dt;
       if (++control_.good_steps >= StepControl::kGrowAfter && control_.dt < scenario_.time.step) {

@@ -10,6 +10,7 @@
 
 #include "core/types.hpp"
 #include "io/scenario.hpp"
+#include "simulation/drift.hpp"
 #include "simulation/statistics.hpp"
 #include "solver/timings.hpp"
 
@@ -19,12 +20,11 @@ namespace conserve::simulation {
 struct RunSummary {
   std::int64_t steps = 0;  ///< steps taken by this invocation
   double wall_seconds = 0.0;
-  double energy_drift = 0.0;          ///< max |E − E0| / E_ref (simulation/drift.hpp)
-  Vec3 linear_drift = Vec3::Zero();   ///< per component, max |L_i − L_i0| / L_ref
-  Vec3 angular_drift = Vec3::Zero();  ///< per component, max |J_i − J_i0| / J_ref
-  double energy_reference = 0.0;      ///< E_ref: the largest K + W seen [J]
-  double momentum_reference = 0.0;    ///< L_ref: the largest Σ_A |(MV)_A| seen [kg m/s]
-  double angular_reference = 0.0;     ///< J_ref = L_ref × the model's size [kg m²/s]
+  /// Per quantity (simulation/drift.hpp: E, L_x … J_z) its drift over the
+  /// run (NaN where not conserved or not present) and its scale.
+  std::array<double, kQuantities> drift{};
+  std::array<double, kQuantities> reference{};
+  Conservation conservation;  ///< which are conserved, and why not
   /// The run statistics (simulation/statistics.hpp): Newton iterations,
   /// contact counts, gaps, penetrations, smallest det F.
   RunStatistics statistics;

@@ -14,7 +14,9 @@ Diagnostics diagnostics(const assembly::Assembler<D>& assembler, const model::St
   d.potential = model.gravity_curve < 0 ? -assembler.gravity_force().dot(state.u) : 0.0;
   if (!model.loads.empty()) d.potential -= conservative_load<D>(model).dot(state.u);
   d.load_work = state.load_work;
-  d.total = d.kinetic + d.strain + d.potential - d.load_work;
+  for (double w : state.support_work) d.support_work += w;
+  d.released = state.released;
+  d.total = d.kinetic + d.strain + d.potential - d.load_work - d.support_work;
   for (int n = 0; n < model.num_nodes(); ++n) {
     Vec3 x = Vec3::Zero(), pn = Vec3::Zero();
     x.head<D>() = model.X.col(n) + state.u.segment<D>(n * D);

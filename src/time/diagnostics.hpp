@@ -13,7 +13,9 @@ struct Diagnostics {
   double potential = 0.0;       ///< Π_ext = −f_ext·u of the constant loads (gravity, tractions) [J]
   double contact = 0.0;         ///< stored by the contact method (a penalty's springs) [J]; set by the caller
   double load_work = 0.0;       ///< work of the loads without a potential so far (State::load_work) [J]
-  /// E − load_work = K + W + Π_ext − load_work (+ contact, once the caller
+  double support_work = 0.0;    ///< work of the prescribed motions so far (Σ State::support_work) [J]
+  double released = 0.0;        ///< energy contact let go of so far (State::released) [J]
+  /// K + W + Π_ext − load_work − support_work (+ contact, once the caller
   /// sets it) [J]: what the scheme conserves.
   double total = 0.0;
   Vec3 linear = Vec3::Zero();   ///< L = Σ_A (MV)_A [kg m/s] (z = 0 in 2D)

@@ -99,6 +99,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     total.tolerance = report.tolerance;
     total.floor = report.floor;
     stats_.equations = problem.equations();
+    reaction_ = problem.reactions();
     contact::Verdict verdict = contact::Verdict::accept;
     if (contact_) {
       solver::ScopedTimer timer(timings_.contact_search);
@@ -119,21 +120,73 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   }
   check_orientation(u_np1, state.step + 1, t_np1);
   if (v_np1.size() == 0) v_np1 = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
-  // Prescribed dofs move as prescribed, with their exact velocity (for a
-  // turning or curve-driven motion (19) would oscillate about it).
+  // The work of the prescribed motion: its forces over its dofs' step,
+  // Δu·R, which (26) makes the step's change of K + W + Π ...
   const model::Model<D>& m = assembler_.model();
-  if (!m.prescribed.rigid.empty() || !m.prescribed.curves.empty())
+  Eigen::VectorXd work = (u_np1 - state.u).cwiseProduct(reaction_);
+  // Prescribed dofs move as prescribed, with their exact velocity (for a
+  // turning or curve-driven motion (19) would oscillate about it) ...
+  if (!m.prescribed.rigid.empty() || !m.prescribed.curves.empty()) {
+    const Eigen::VectorXd v_19 = v_np1;
     model::apply_prescribed<D>(m.prescribed, m.X, t_np1, u_np1, &v_np1);
+    // ... and the kinetic energy that setting them changes, (V − V_19)·M V̄
+    // dof by dof (V̄ the mean of the two; non-zero on prescribed dofs only).
+    const Eigen::VectorXd change = v_np1 - v_19;
+    if (change.any()) work += change.cwiseProduct(assembler_.mass_times(0.5 * (v_np1 + v_19)));
+  }
   if (contact_) {
     solver::ScopedTimer timer(timings_.contact_search);
     contact_->finish_step(state.u, u_np1, v_np1, stats_);
+    add_impulses(dt);
+  } else {
+    impulse_.resize(0);
   }
+  sum_supports(state, u_np1, work);
   for (const auto& term : terms_) state.load_work += term->external_work(u_np1);
+  state.released += stats_.contact_released;
   state.v = std::move(v_np1);
   state.u = std::move(u_np1);
   state.time = t_np1;
   ++state.step;
   return total;
+}
+
+// Persistent contact's impulses at the step's end on slaves of a
+// prescribed master: the master's nodes take their opposite, which the
+// prescribed motion must supply, N_b P over the step (impulses do no work
+// here: the update keeps the step's energy).
+template <int D>
+void Integrator<D>::add_impulses(double dt) {
+  impulse_.resize(0);
+  for (const contact::ContactForce<D>& f : contact_->contact_forces()) {
+    if (f.impulse.isZero()) continue;
+    if (impulse_.size() == 0) impulse_.setZero(reaction_.size());
+    for (int b = 0; b < D; ++b)
+      for (int i = 0; i < D; ++i)
+        if (mask_.masked(f.master[b] * D + i)) impulse_[f.master[b] * D + i] += f.weights[b] * f.impulse[i] / dt;
+  }
+}
+
+template <int D>
+void Integrator<D>::sum_supports(model::State& state, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& work) {
+  const model::Model<D>& m = assembler_.model();
+  const auto& supports = m.prescribed.supports;
+  state.support_work.resize(supports.size(), 0.0);
+  supports_.assign(supports.size(), {});
+  for (std::size_t s = 0; s < supports.size(); ++s)
+    for (int e : supports[s].entries) {
+      const int d = m.prescribed.dofs[static_cast<std::size_t>(e)], node = d / D, i = d % D;
+      state.support_work[s] += work[d];
+      // The step's force acts at the mid-point positions, an impulse at the end ones.
+      Vec3 mid = Vec3::Zero(), end = Vec3::Zero(), f = Vec3::Zero(), p = Vec3::Zero();
+      end.head<D>() = m.X.col(node) + u_np1.segment<D>(node * D);
+      mid.head<D>() = 0.5 * (end.head<D>() + m.X.col(node) + state.u.segment<D>(node * D));
+      f[i] = reaction_[d];
+      if (impulse_.size() > 0) p[i] = impulse_[d];
+      supports_[s].force += f + p;
+      supports_[s].moment += mid.cross(f) + end.cross(p);
+    }
+  if (impulse_.size() > 0) reaction_ += impulse_;
 }
 
 // The step (17) of a body on which only the body force acts (rigid

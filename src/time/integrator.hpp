@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
@@ -15,6 +16,12 @@
 #include "time/step_terms.hpp"
 
 namespace conserve::time {
+
+/// What a support (model::Support) applied to the bodies over a step.
+struct SupportReaction {
+  Vec3 force = Vec3::Zero();   ///< Σ of its dofs' reactions [N] (2D: z = 0)
+  Vec3 moment = Vec3::Zero();  ///< their moment about the origin at the mid-point positions [N m]
+};
 
 template <int D>
 class Integrator {
@@ -61,6 +68,14 @@ class Integrator {
   /// Newton's start for each step (time/predictor.hpp); `velocity` until set.
   void set_predictor(Predictor predictor);
 
+  /// The mean force over the last step that the prescribed motions applied
+  /// at their dofs (a support's reaction, a rigid tool's driving force),
+  /// persistent contact's impulses at its end included; 0 on free dofs [N].
+  /// Its work is added to State::support_work.
+  [[nodiscard]] const Eigen::VectorXd& reactions() const { return reaction_; }
+  /// reactions() summed per support (model::Prescribed::supports).
+  [[nodiscard]] const std::vector<SupportReaction>& supports() const { return supports_; }
+
   /// What contact did in the last step.
   [[nodiscard]] const contact::StepContactStats& contact_stats() const { return stats_; }
   [[nodiscard]] const solver::LinearSolver& linear_solver() const { return *solver_; }
@@ -78,6 +93,9 @@ class Integrator {
   std::optional<RigidMotion<D>> rigid_;  ///< set: Predictor::rigid
   std::unique_ptr<solver::LinearSolver> solver_;
   contact::StepContactStats stats_;
+  Eigen::VectorXd reaction_;  ///< reactions()
+  Eigen::VectorXd impulse_;   ///< the part of it from impulses at the step's end (empty: none)
+  std::vector<SupportReaction> supports_;
   solver::Timings timings_;
   /// The last iterate of a step that was not taken because it met an
   /// impact (step()), which starts the shorter step from the same state.
@@ -101,6 +119,12 @@ class Integrator {
 
   [[nodiscard]] std::string not_converged(const solver::NewtonReport& report, std::int64_t step, double t) const;
   void check_orientation(const Eigen::VectorXd& u, std::int64_t step, double t) const;
+  /// impulse_ from the contact method's persistency impulses.
+  void add_impulses(double dt);
+  /// supports_ from reaction_ (at the mid-point positions of u_n → u_np1)
+  /// and impulse_ (at the end ones), which joins reaction_; their work over
+  /// the step added to state.support_work.
+  void sum_supports(model::State& state, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& work);
   [[nodiscard]] Eigen::VectorXd predictor(const model::State& state, double dt) const;
 };
 

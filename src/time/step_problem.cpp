@@ -79,11 +79,6 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
     Eigen::VectorXd free_motion = du_;  // the prescribed dofs' residual is masked: it does no work
     mask_.apply(free_motion);
     motion_ = free_motion.norm();
-    // The reactions of the prescribed dofs are external forces too: in a
-    // displacement-driven step they are the load.
-    double reactions = 0.0;
-    for (int d : mask_.dofs()) reactions += g_[d] * g_[d];
-    force_scale_ = std::max(start_scale_, std::sqrt(reactions));
   }
   const int free = static_cast<int>(g_.size() - static_cast<Eigen::Index>(mask_.dofs().size()));
   equations_ = coupled() ? coupling_->equations(free) : free;
@@ -95,6 +90,14 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
   } else {
     r = g_;
   }
+  // The reactions of the prescribed dofs are external forces too: in a
+  // displacement-driven step they are the load, and a tool pressing a body
+  // at rest is the only force of the step. They are the system's residual
+  // there, where a constraint method has passed its contact forces on (a
+  // rigid master's share N^T g_s of its slaves' forces (41), (56)).
+  reaction_.setZero(g_.size());
+  for (int d : mask_.dofs()) reaction_[d] = r[d];
+  force_scale_ = std::max(start_scale_, reaction_.norm());
   mask_.apply(r);
 }
 

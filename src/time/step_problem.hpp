@@ -68,6 +68,11 @@ class StepProblem final : public solver::NewtonProblem {
   /// coupling adds included: on a slave held by a constraint, the contact
   /// force it receives (33) [N].
   [[nodiscard]] const Eigen::VectorXd& full_residual() const { return g_; }
+  /// The force the prescribed motion applies at each prescribed dof at the
+  /// last residual: the system's residual there, what a constraint method
+  /// passed on to a prescribed master included; 0 on the free dofs [N].
+  /// Σ Δu·reactions() is the work of the prescribed motion over the step.
+  [[nodiscard]] const Eigen::VectorXd& reactions() const { return reaction_; }
   /// Accumulate assembly and contact-coupling times there (may be null).
   void set_timings(solver::Timings* timings) { timings_ = timings; }
   /// Unknowns of the system (its free ones), as of the last residual.
@@ -88,7 +93,7 @@ class StepProblem final : public solver::NewtonProblem {
   contact::Coupling* coupling_;
   SparseMatrix K_reduced_;  ///< the coupled system's tangent
   assembly::DirichletMask reduced_mask_;
-  Eigen::VectorXd g_, du_, magnitude_;
+  Eigen::VectorXd g_, du_, magnitude_, reaction_;
   Eigen::VectorXd u_before_;  ///< the iterate before the last update (revert)
   double start_scale_ = 0.0, force_scale_ = 0.0;
   double energy_n_ = 0.0;  ///< the terms' energies at the start: K_n + W_n + |Π_n| [J]

@@ -74,10 +74,10 @@ TEST(Tutorial, RunsAsWritten) {
   EXPECT_GE(commands, 5);
   const auto summary = nlohmann::json::parse(slurp(dir / "out/drop/summary.json"));
   std::printf("[ measured ] tutorial: %d steps, E drift %.2e, %d activations, %lld VTU frames of %.0f kB\n",
-              summary.at("steps").get<int>(), summary.at("energy_drift").get<double>(),
+              summary.at("steps").get<int>(), summary.at("drift").at("E").get<double>(),
               summary.at("activations").get<int>(), summary.at("vtu_frames").get<long long>(),
               summary.at("vtu_bytes").get<double>() / 1e3 / summary.at("vtu_frames").get<double>());
-  EXPECT_LT(summary.at("energy_drift").get<double>(), 1e-10);
+  EXPECT_LT(summary.at("drift").at("E").get<double>(), 1e-10);
   EXPECT_GT(summary.at("activations").get<int>(), 0);  // it hit the floor
   for (const char* f : {"out/drop/solution.pvd", "out/drop/snapshots/snapshots.png", "out/drop/energy.png"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;

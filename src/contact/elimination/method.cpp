@@ -105,7 +105,7 @@ void EliminationMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::
   stats.master_penetration = active_.master_penetration(u_np1, u_n).depth;
   const auto& constraints = active_.constraints();
   const auto& normal = active_.normal_forces();
-  std::vector<Vec<D>> impulses(constraints.size(), Vec<D>::Zero());
+  std::vector<SlaveImpulse<D>> impulses(constraints.size());
   const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
   if (persistent_ && !constraints.empty())
     stats.velocity = persistent_->apply(constraints, active_.pairs(), x, v_np1, &impulses);
@@ -120,8 +120,9 @@ void EliminationMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::
                        .force = c.force,
                        .moment = moment_of<D>(c.mid, c.force),
                        .work = c.force.dot(step),
-                       .impulse = impulses[i],
-                       .impulse_moment = moment_of<D>(x.col(c.slave), impulses[i])});
+                       .impulse = impulses[i].impulse,
+                       .master = c.master,
+                       .weights = impulses[i].weights});
   }
 }
 

@@ -111,9 +111,9 @@ Eigen::MatrixXd PersistentVelocity<D>::rigid_modes(const Positions<D>& x) const 
 template <int D>
 VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& constraints,
                                             const std::vector<ContactPair<D>>& pairs, const Positions<D>& x,
-                                            Eigen::VectorXd& v, std::vector<Vec<D>>* impulses) const {
+                                            Eigen::VectorXd& v, std::vector<SlaveImpulse<D>>* impulses) const {
   VelocityUpdate out;
-  if (impulses) impulses->assign(constraints.size(), Vec<D>::Zero());
+  if (impulses) impulses->assign(constraints.size(), {});
   if (constraints.empty()) return out;
   std::vector<std::pair<std::size_t, Vec<D>>> row_of;  // per row of A: its constraint and the slave's direction
   // The rows of A: frictionless one per slave (the gap rate), stick D
@@ -125,6 +125,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
     const FacetNodes<D> xm = facet_nodes<D>(pair.master, c.facet, x);
     auto add = [&](int row, const Vec<D>& dir, const Vec<D>& N) {
       row_of.emplace_back(static_cast<std::size_t>(&c - constraints.data()), dir);
+      if (impulses) (*impulses)[row_of.back().first].weights = N;
       for (int i = 0; i < D; ++i) {
         rows.emplace_back(row, c.slave * D + i, dir(i));
         for (int b = 0; b < D; ++b) rows.emplace_back(row, c.master[b] * D + i, -N(b) * dir(i));
@@ -201,7 +202,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   out.energy_moved = dK;
   if (impulses)
     for (std::size_t row = 0; row < row_of.size(); ++row)
-      (*impulses)[row_of[row].first] += mu[static_cast<Eigen::Index>(row)] * row_of[row].second;
+      (*impulses)[row_of[row].first].impulse += mu[static_cast<Eigen::Index>(row)] * row_of[row].second;
   return out;
 }
 

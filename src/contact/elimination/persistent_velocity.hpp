@@ -34,6 +34,13 @@
 
 namespace conserve::contact {
 
+/// A persistency impulse on a slave and the weights of its master's nodes.
+template <int D>
+struct SlaveImpulse {
+  Vec<D> impulse = Vec<D>::Zero();  ///< on the slave [N s]
+  Vec<D> weights = Vec<D>::Zero();  ///< N_b at the point of the facet it acts against
+};
+
 template <int D>
 class PersistentVelocity {
  public:
@@ -44,10 +51,12 @@ class PersistentVelocity {
   /// Updates the end-of-step velocities `v` for the active constraints at
   /// end positions `x` (see the file comment).
   /// `impulses` (if given) receives per constraint the persistency
-  /// impulse on its slave, Σ μ a_slave [N s] (zero if not applied): what a
-  /// prescribed master takes.
+  /// impulse on its slave, Σ μ a_slave [N s] (zero if not applied), and
+  /// the weights N_b with which its master's nodes took the opposite:
+  /// what a prescribed master takes.
   VelocityUpdate apply(const std::vector<Constraint<D>>& constraints, const std::vector<ContactPair<D>>& pairs,
-                       const Positions<D>& x, Eigen::VectorXd& v, std::vector<Vec<D>>* impulses = nullptr) const;
+                       const Positions<D>& x, Eigen::VectorXd& v,
+                       std::vector<SlaveImpulse<D>>* impulses = nullptr) const;
 
   /// Takes `energy` [J] out of the kinetic energy of `v` (gives it back if
   /// negative) by the step-2 change V = V + t w of the file comment
