@@ -98,9 +98,11 @@ void print_summary(const RunSummary& s) {
         s.statistic("slave_penetration"), s.statistic("master_penetration"));
   if (s.statistic("pushes_given_up") > 0)
     fmt::print(
-        "contact: {} push-out(s) given up, their work more than the bodies could give back: slaves that came in "
-        "behind a master beyond its border, through a face that is no master, were held where they were (down to "
-        "{:.3e} m); history.csv's pushes_given_up says when. Make those faces masters too.\n",
+        "contact: {} push-out(s) given up: slaves found behind their master facet further than the step's motion "
+        "could carry them out, and the work of pushing them out more than the bodies' vibration could give back, "
+        "were held where they were (down to {:.3e} m; history.csv's pushes_given_up says when). Such slaves came "
+        "in behind the master surface beyond its border or through a face that is not part of it: if that face "
+        "should stop them, add it to the master surface.\n",
         s.statistic("pushes_given_up"), s.statistic("min_active_gap"));
   fmt::print("output: {}/history.csv, {}/solution.pvd", s.output_directory.string(), s.output_directory.string());
   if (s.vtu_frames > 0)

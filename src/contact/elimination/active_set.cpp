@@ -86,7 +86,8 @@ void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorX
     // part of the way out of a push-out deeper than a step's (push_target),
     // is pushed out in this step, as at its activation (make_constraint),
     // unless a push-out of it was given up (hold).
-    c.push = c.kind == Kind::frictionless && c.gap < 0.0 && count_[c.slave] == 1 && !c.hold;
+    c.push = c.kind == Kind::frictionless && c.gap < -pair(c.pair).search.penetration_tolerance &&
+             count_[c.slave] == 1 && !c.hold;
     if (c.push) c.gap = push_target(c, c.gap);
     if (c.hold) given_up_[c.slave] = 1;
   }
@@ -159,7 +160,8 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
     Constraint<D>& c = active_[k];
     if (!c.rate) continue;
     end_gap[k] = project<D>(x_np1.col(c.slave), facet_nodes<D>(pair(c.pair).master, c.facet, x_np1)).gap;
-    if (end_gap[k] < 0.0 && c.kind == Kind::frictionless && count_[c.slave] == 1 && !c.hold)
+    if (end_gap[k] < -pair(c.pair).search.penetration_tolerance && c.kind == Kind::frictionless &&
+        count_[c.slave] == 1 && !c.hold)
       c.rate = false, c.gap = 0.0, c.push = pushed = true;
   }
   if (pushed) return SetChange::changed;
@@ -421,8 +423,13 @@ Constraint<D> ActiveSet<D>::make_constraint(int p, int s, const Match<D>& end, c
   // a time (push_target). The second
   // constraint of a slave on two surfaces has no such force (its pair's
   // forces are always the zero-work ones): it keeps its start gap, and so
-  // does a slave whose push-out was given up (given_up_).
-  if (c.kind == Kind::frictionless && start.gap < 0.0) {
+  // does a slave whose push-out was given up (given_up_). A slave behind
+  // by no more than the search's penetration tolerance (the round-off of
+  // the positions: a face met exactly at a step's end) is on its facet:
+  // held at γ = 0.
+  if (c.kind == Kind::frictionless && start.gap < 0.0 && start.gap >= -pr.search.penetration_tolerance) {
+    c.gap = 0.0;
+  } else if (c.kind == Kind::frictionless && start.gap < 0.0) {
     if (-start.gap <= push_out(c, x_n, x_np1)) {
       c.gap = 0.0;
     } else if (given_up_[s]) {
