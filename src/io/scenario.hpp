@@ -51,6 +51,9 @@ struct BodySpec {
   MeshSpec mesh;
   MaterialSpec material;
   Eigen::Vector3d translate = Eigen::Vector3d::Zero();  ///< shifts the reference configuration [m]
+  /// Turns the mesh about the origin of its coordinates, before `translate`
+  /// (2D: the upper 2 × 2 block).
+  Eigen::Matrix3d rotate = Eigen::Matrix3d::Identity();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();   ///< uniform initial velocity [m/s]
   /// Rigid rotation about the body's centre of mass [rad/s]; in 2D only z.
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();

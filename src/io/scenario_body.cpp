@@ -2,6 +2,7 @@
 /// and [[boundary]].
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -84,6 +85,35 @@ Eigen::Matrix3d parse_initial_deformation(const Section& s) {
   return f0;
 }
 
+/// [body.rotate]: `degrees` about `axis` (3D) or z (2D), or a `matrix`.
+Eigen::Matrix3d parse_rotate(const Section& body) {
+  if (!body.has("rotate")) return Eigen::Matrix3d::Identity();
+  const Section s = body.table("rotate");
+  const bool by_angle = s.has("degrees"), by_matrix = s.has("matrix");
+  if (by_angle == by_matrix)
+    s.fail_table(by_angle ? "has both `degrees` and `matrix`" : "has neither `degrees` nor `matrix`",
+                 s.dimension() == 3 ? "either `axis` and `degrees`, or `matrix`" : "either `degrees` or `matrix`");
+  if (by_matrix) {
+    if (s.has("axis")) s.fail("axis", "is not used with `matrix`", "no axis beside a rotation matrix");
+    const Eigen::Matrix3d R = s.matrix("matrix");
+    const double error = (R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    if (!(error <= 1e-9) || !(R.determinant() > 0.0))
+      s.fail("matrix", fmt::format("is not a rotation (|R Rᵀ − I| = {:.3g}, det R = {:.6g})", error, R.determinant()),
+             "an orthogonal matrix with determinant 1, to 1e-9");
+    return R;
+  }
+  const double angle = s.number("degrees") * std::acos(-1.0) / 180.0;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  if (s.dimension() == 2) {
+    if (s.has("axis")) s.fail("axis", "is only meaningful in 3D", "no axis in 2D (the rotation is about z)");
+  } else {
+    if (!s.has("axis")) s.fail("axis", "missing key", "the axis to turn about, 3 numbers, with `degrees`");
+    axis = s.vector("axis");
+    if (!(axis.norm() > 0.0)) s.fail("axis", "is zero", "a direction: 3 numbers, not all zero");
+  }
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
+
 double parse_thickness(const Section& s) {
   if (s.dimension() == 3 && s.has("thickness")) {
     s.fail("thickness", "is only meaningful in 2D", "no thickness with dimension = 3");
@@ -131,6 +161,7 @@ BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file
     for (const char* key : {"center", "velocity_curve", "angular_velocity_curve"}) reject_on_deformable_body(s, key);
   }
   body.translate = s.vector("translate");
+  body.rotate = parse_rotate(s);
   body.velocity = s.vector("velocity");
   body.angular_velocity = s.angular_velocity("angular_velocity");
   body.initial_deformation = parse_initial_deformation(s);

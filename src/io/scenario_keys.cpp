@@ -330,6 +330,29 @@ SectionSpec body_section() {
                .doc = "material, see [body.material]; required unless `rigid = true` (then it is still validated "
                       "if given; without it the rigid body is massless)"},
               {.name = "mesh", .type = KeyType::table, .required = true, .doc = "mesh, see [body.mesh]"},
+              {.name = "rotate",
+               .type = KeyType::table,
+               .doc = "turns the mesh about the origin of its coordinates, before `translate`: see "
+                      "[body.rotate]"},
+          }};
+}
+
+SectionSpec rotate_section() {
+  return {.name = "body.rotate",
+          .doc = "A rotation of the body's mesh about the origin of its coordinates, applied before `translate` "
+                 "(e.g. `rotate = {axis = [0, 1, 0], degrees = 30}`): exactly one of `degrees` (with `axis` in "
+                 "3D; about z in 2D) or `matrix`.",
+          .keys = {
+              {.name = "axis",
+               .type = KeyType::vector,
+               .doc = "3D: the axis to turn about (any length but zero), right-handed"},
+              {.name = "degrees",
+               .type = KeyType::number,
+               .unit = "degrees",
+               .doc = "the angle, counter-clockwise about `axis` (2D: about z)"},
+              {.name = "matrix",
+               .type = KeyType::matrix,
+               .doc = "the rotation matrix (rows): orthogonal with determinant 1, to 1e-9"},
           }};
 }
 
@@ -538,7 +561,7 @@ SectionSpec active_set_section() {
 const std::vector<SectionSpec>& scenario_sections() {
   static const std::vector<SectionSpec> sections = {
       top_level(),        time_section(), newton_section(),   solver_section(),  loads_section(),   output_section(),     body_section(),
-      material_section(), mesh_section(), boundary_section(), contact_section(), active_set_section(),
+      material_section(), mesh_section(), rotate_section(), boundary_section(), contact_section(), active_set_section(),
       load_section(),     curve_section(),
   };
   return sections;

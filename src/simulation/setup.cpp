@@ -41,7 +41,7 @@ auto at_key(const io::Scenario& scenario, std::size_t i, std::string_view key, F
   }
 }
 
-/// A body's mesh, translated. A generated mesh's nodes are renumbered in
+/// A body's mesh, rotated and translated. A generated mesh's nodes are renumbered in
 /// reverse Cuthill–McKee order and its cells follow them (a generator's
 /// numbering is its own: Gmsh's scatters a cell's nodes across the whole
 /// body, and every cell loop and ILU(0) pays for it). A file's numbering
@@ -69,6 +69,7 @@ mesh::Mesh body_mesh(const io::Scenario& scenario, std::size_t i, int dim) {
       m = mesh::renumbered(m, solver::reverse_cuthill_mckee(offsets, neighbours));
     }
   }
+  if (!spec.rotate.isIdentity()) m.points = spec.rotate.topLeftCorner(m.dim, m.dim) * m.points;
   m.points.colwise() += spec.translate.head(m.dim);
   return m;
 }
