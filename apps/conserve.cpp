@@ -96,6 +96,13 @@ void print_summary(const RunSummary& s) {
         s.statistic("activations"), s.statistic("releases"), s.statistic("held"), s.statistic("max_activation_gap"),
         s.statistic("min_active_gap"), s.statistic("max_active_gap"), s.statistic("max_penetration"),
         s.statistic("slave_penetration"), s.statistic("master_penetration"));
+  if (s.statistic("velocity_update_failures") > 0)
+    fmt::print(
+        "contact: in {} step(s) the persistent-contact velocity update failed (its constraints' system singular, "
+        "its velocities not finite, or the energy it removes more than the bodies' motion could take back) and "
+        "the step kept the mid-point velocity (19), whose relative velocity at the active slaves reverses "
+        "(chatter); E, L and J are kept either way. history.csv's velocity_update_failures says when.\n",
+        s.statistic("velocity_update_failures"));
   if (s.statistic("pushes_given_up") > 0)
     fmt::print(
         "contact: {} push-out(s) given up: slaves found behind their master facet further than the step's motion "

@@ -25,9 +25,12 @@ namespace conserve::contact {
 
 /// What a velocity update after the step did (persistent contact).
 struct VelocityUpdate {
-  bool applied = false;       ///< false: V* kept (nothing to remove, or the energy could not be given back)
+  bool applied = false;       ///< false: V* kept (nothing to remove, or the update failed)
   double removed = 0.0;       ///< largest relative velocity of an active slave removed [m/s]
   double energy_moved = 0.0;  ///< K* − K_p, the kinetic energy given back [J]
+  /// Why the update failed and V* was kept although the slaves moved
+  /// relative to their facets (nullptr: it did not fail).
+  const char* failure = nullptr;
 };
 
 /// What contact did during one step, and its geometry at the step's end.

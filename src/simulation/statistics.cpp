@@ -64,6 +64,8 @@ const std::vector<Statistic>& statistics() {
       {"pushes", [](F f) { return double(contact_of(f).pushes); }, {{"pushes", Over::sum, true}}},
       {"creases", [](F f) { return double(contact_of(f).creases); }, {{"creases", Over::sum, true}}},
       {"push_work", [](F f) { return contact_of(f).push_work; }, {{"push_work", Over::sum}}},
+      {"velocity_update_failures", [](F f) { return double(contact_of(f).velocity.failure != nullptr); },
+       {{"velocity_update_failures", Over::sum, true}}},
       {"pushes_given_up", [](F f) { return double(contact_of(f).pushes_given_up); }, {{"pushes_given_up", Over::sum, true}}},
       {"min_det_F", [](F f) { return f.diagnostics.min_det_F; }, {{"min_det_F", Over::min}}},
       {"contact_energy", [](F f) { return f.diagnostics.contact; }, {{"max_contact_energy", Over::max}}},

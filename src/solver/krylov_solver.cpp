@@ -188,11 +188,18 @@ struct KrylovSolver::Petsc {
     check(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR), "PCFieldSplitSetType");
     check(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_FULL), "PCFieldSplitSetSchurFactType");
     check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_SELFP, nullptr), "PCFieldSplitSetSchurPre");
+    // The program's choices for the two blocks, unless [solver]
+    // petsc_options (or the command line's PETSc options) set them.
+    const auto by_default = [](const std::string& name, const char* value) {
+      PetscBool set = PETSC_FALSE;
+      check(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set), "PetscOptionsHasName");
+      if (!set) check(PetscOptionsSetValue(nullptr, name.c_str(), value), "PetscOptionsSetValue");
+    };
     for (const char* field : {"u", "lambda"}) {
       const std::string prefix = std::string("-fieldsplit_") + field + "_";
-      PetscOptionsSetValue(nullptr, (prefix + "ksp_type").c_str(), "preonly");
-      PetscOptionsSetValue(nullptr, (prefix + "pc_type").c_str(), "ilu");
-      PetscOptionsSetValue(nullptr, (prefix + "pc_factor_shift_type").c_str(), "nonzero");
+      by_default(prefix + "ksp_type", "preonly");
+      by_default(prefix + "pc_type", "ilu");
+      by_default(prefix + "pc_factor_shift_type", "nonzero");
     }
     check(PCSetFromOptions(pc), "PCSetFromOptions");
     split = true;

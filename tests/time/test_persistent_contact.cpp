@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/elimination/persistent_velocity.hpp"
 #include "contact/search.hpp"
 #include "support/contact_run.hpp"
 #include "support/contact_scenarios.hpp"
@@ -236,6 +237,73 @@ TEST(PersistentContact, LocatedReleasesLetTheBlockGoUnloaded) {
   // Variable steps keep the mid-point scheme's conservation.
   EXPECT_LT(stick_located.energy, 1e-12);
   EXPECT_LT(slide_located.energy, 1e-12);
+}
+
+}  // namespace
+}  // namespace conserve
+
+namespace conserve {
+namespace {
+
+// The update fails, and says why, when its constraints' system is
+// singular: here a constraint between a held box and a rigid one moving
+// towards it, whose nodes no impulse can move. The velocities are left as
+// they were.
+TEST(PersistentContact, AFailedUpdateSaysWhyAndKeepsTheVelocities) {
+  ContactRun<3> run(R"(dimension = 3
+[time]
+step = 1e-3
+end = 1e-3
+[[boundary]]
+body = "a"
+group = "all"
+[[body]]
+name = "a"
+[body.material]
+young = 1e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.2
+ly = 0.2
+lz = 0.2
+size = 0.2
+[[body]]
+name = "b"
+rigid = true
+translate = [0.2, 0.0, 0.0]
+velocity = [-1.0, 0.0, 0.0]
+[body.material]
+young = 1e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "box"
+lx = 0.2
+ly = 0.2
+lz = 0.2
+size = 0.2
+[[contact]]
+slave = "a:xmax"
+master = "b:xmin"
+kind = "frictionless"
+)");
+  const auto& pairs = run.method->pairs();
+  contact::Constraint<3> c;
+  c.pair = 0;
+  c.kind = contact::Kind::frictionless;
+  c.slave = pairs[0].slave.nodes.front();
+  c.facet = 0;
+  for (int b = 0; b < 3; ++b) c.master[b] = pairs[0].master.facets(b, 0);
+  const contact::PersistentVelocity<3> update(run.problem.model, run.assembler->mass());
+  Eigen::VectorXd v = run.state.v;
+  const contact::VelocityUpdate out = update.apply({c}, pairs, run.positions(), v);
+  ASSERT_GT(out.removed, 0.0);  // the slave approaches its facet: there is something to remove
+  EXPECT_FALSE(out.applied);
+  ASSERT_NE(out.failure, nullptr);
+  EXPECT_EQ(std::string(out.failure), "the constraints' system is singular");
+  EXPECT_EQ(v, run.state.v);
 }
 
 }  // namespace

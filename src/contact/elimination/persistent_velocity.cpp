@@ -158,7 +158,10 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   B.prune([](Eigen::Index, Eigen::Index, double value) { return value != 0.0; });
   const SparseMatrix S = B * B.transpose();
   Eigen::SimplicialLDLT<SparseMatrix> ldlt(S);
-  if (ldlt.info() != Eigen::Success) return out;
+  if (ldlt.info() != Eigen::Success) {
+    out.failure = "the constraints' system is singular";
+    return out;
+  }
   const Eigen::MatrixXd R = rigid_modes(x);
   const Eigen::MatrixXd MR = times_mass(R);
   const Eigen::MatrixXd LMR = inv_mass.asDiagonal() * MR;  // M_L⁻¹ M R
@@ -190,13 +193,19 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   const Eigen::VectorXd beta2 = schur2.ldlt().solve(L_p - SE.transpose() * Av_p);
   const Eigen::VectorXd alpha = ldlt.solve(Av_p) - SE * beta2;
   const Eigen::VectorXd w = v_p - move(alpha, beta2);
-  if (!v_p.allFinite() || !w.allFinite()) return out;
+  if (!v_p.allFinite() || !w.allFinite()) {
+    out.failure = "its velocities are not finite";
+    return out;
+  }
 
   const Eigen::VectorXd Mv = times_mass(v), Mvp = times_mass(v_p), Mw = times_mass(w);
   const double K_star = 0.5 * v.dot(Mv), K_p = 0.5 * v_p.dot(Mvp);
   const double dK = K_star - K_p;
   const std::optional<double> t = energy_scale(w.dot(Mvp), w.dot(Mw), dK);  // K(V_p + t w) = K*
-  if (!t) return out;
+  if (!t) {
+    out.failure = "the bodies' motion could not take back the energy";
+    return out;
+  }
   v = v_p + *t * w;
   out.applied = true;
   out.energy_moved = dK;
