@@ -2,12 +2,18 @@
 //   conserve run SCENARIO [-o DIR] [--quiet] [--steps N] [--restart CHECKPOINT] [--set SECTION.KEY=VALUE ...]
 //   conserve check SCENARIO [--set SECTION.KEY=VALUE ...]
 // Every failure is one line on stderr and a non-zero exit code:
-// 1 bad input, 2 bad command line, 3 solver failure, 4 anything else.
+// 1 bad input, 2 bad command line, 3 solver failure, 4 anything else;
+// 5: stopped by SIGTERM or SIGUSR1 after the step under way, with a
+// checkpoint to continue from and summary.json (a second signal ends the
+// process at once).
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
+#include <signal.h>
+
 #include <algorithm>
+#include <csignal>
 #include <string>
 #include <vector>
 
@@ -126,11 +132,31 @@ void print_check(const std::string& file, const CheckSummary& s) {
   for (const std::string& surface : s.surfaces) fmt::print("  {}\n", surface);
 }
 
+/// The signal that asked the run to stop (0: none).
+volatile std::sig_atomic_t stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal) { stop_signal = signal; }
+
+/// SIGTERM (a batch system's time limit) and SIGUSR1 end the run after the
+/// step under way; the handler is reset, so that a second one ends it at once.
+void catch_stop_signals() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  action.sa_flags = SA_RESETHAND;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGTERM, &action, nullptr);
+  sigaction(SIGUSR1, &action, nullptr);
+}
+
+std::string stop_requested() {
+  const int signal = stop_signal;
+  return signal == SIGTERM ? "SIGTERM" : signal == SIGUSR1 ? "SIGUSR1" : signal != 0 ? "a signal" : "";
+}
+
 template <class F>
 int guarded(F&& body) {
   try {
-    body();
-    return 0;
+    return body();
   } catch (const conserve::InputError& e) {
     fmt::print(stderr, "conserve: error: {}\n", e.what());
     return 1;
@@ -183,7 +209,8 @@ int main(int argc, char** argv) {
     if (*check) {
       const conserve::simulation::CheckSummary s = conserve::simulation::check(scenario);
       for (const std::string& w : s.warnings) warn(w);
-      return print_check(scenario_file, s);
+      print_check(scenario_file, s);
+      return 0;
     }
     conserve::solver::set_blas_threads(blas_threads);
     conserve::simulation::RunOptions options;
@@ -192,6 +219,15 @@ int main(int argc, char** argv) {
     if (steps >= 0) options.max_steps = steps;
     if (!restart_file.empty()) options.restart = restart_file;
     options.warn = warn;
-    print_summary(conserve::simulation::run(scenario, options));
+    options.stop = stop_requested;
+    catch_stop_signals();
+    const RunSummary summary = conserve::simulation::run(scenario, options);
+    print_summary(summary);
+    if (summary.stopped.empty()) return 0;
+    fmt::print(stderr,
+               "conserve: stopped by {} at t = {:.9g} s; the state is in {} (continue with --restart {}), "
+               "summary.json is written\n",
+               summary.stopped, summary.end_time, summary.stop_checkpoint.string(), summary.stop_checkpoint.string());
+    return 5;
   });
 }

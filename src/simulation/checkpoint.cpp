@@ -31,8 +31,8 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 13: the contact method's state as its own bytes (contact::Method::save).
 /// 14: a penalty force's pair and whole vector; the state's load work.
 /// 15: the state's work of each support and released energy; the drifts'
-/// deviations instead of their ratios.
-constexpr std::uint32_t kVersion = 15;
+/// deviations instead of their ratios. 16: the integrator's state.
+constexpr std::uint32_t kVersion = 16;
 
 using Writer = ByteWriter;
 using Reader = ByteReader;
@@ -159,6 +159,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(c.control.previous_dt);
   write_totals(w, c.totals);
   w.text(c.contact);
+  w.text(c.integrator);
 
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
@@ -210,7 +211,9 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.totals = read_totals(r);
   // The contact method's state: at most a few hundred bytes a node.
   c.contact = r.text(static_cast<std::size_t>(model.num_nodes()) * 1024 + 1024, true);
-  if (!r.at_end()) r.fail("trailing bytes after the contact state");
+  // The integrator's: at most two tangents' states of three vectors each.
+  c.integrator = r.text(static_cast<std::size_t>(model.num_dofs()) * 6 * sizeof(double) + 4096, true);
+  if (!r.at_end()) r.fail("trailing bytes after the integrator's state");
   if (c.state.step < 0 || c.control.cutbacks < 0 || !(c.control.dt > 0.0) || !(c.control.last_dt >= 0.0) ||
       !(c.control.previous_dt >= 0.0))
     r.fail("bad step or step size");

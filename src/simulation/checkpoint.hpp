@@ -1,7 +1,7 @@
 #pragma once
 /// Checkpoints: everything a run needs to continue bit-identically from a
 /// step (state, step size and cutback state, active contact constraints,
-/// running drift maxima), tied to the scenario by its fingerprint
+/// the kept tangent's origin and the solver's state, running drift maxima), tied to the scenario by its fingerprint
 /// (simulation/fingerprint.hpp). Binary (raw doubles), written atomically.
 #include <cstdint>
 #include <limits>
@@ -45,6 +45,7 @@ struct Checkpoint {
   StepControl control;
   RunTotals totals;
   std::string contact;  ///< the contact method's state (contact::Method::save; load() checks it)
+  std::string integrator;  ///< the integrator's kept tangent and solver state (time::Integrator::save)
 };
 
 /// "DIR/checkpoints/ckpt_NNNNNN.bin" (six digits or more).

@@ -74,6 +74,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     control = c.control;
     totals = c.totals;
     if (contact) contact->load(c.contact, options.restart->string());
+    integrator.load(c.integrator, options.restart->string());
     io::resume_history(dir / "history.csv", state.step);
     io::resume_history(dir / "steps.csv", state.step);
   }
@@ -95,7 +96,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   }
   auto save = [&](const model::State& s) {
     const auto file = checkpoint_path(dir, s.step);
-    write_checkpoint<D>(file, {fingerprint, s, control, totals, contact ? contact->save() : std::string()});
+    write_checkpoint<D>(file, {fingerprint, s, control, totals, contact ? contact->save() : std::string(),
+                               integrator.save()});
     return file;
   };
   ProgressLine progress(options.progress, sc.output.progress_every);
@@ -138,10 +140,11 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
       steps_csv.write_row({static_cast<double>(state.step), state.time, dt, static_cast<double>(failures)});
     }
     totals.statistics.add(figures, true);
-    if (sc.output.checkpoint_every > 0 && state.step % sc.output.checkpoint_every == 0) {
+    const bool due = sc.output.checkpoint_every > 0 && state.step % sc.output.checkpoint_every == 0;
+    if (options.stop && !last) summary.stopped = options.stop();
+    if (due || !summary.stopped.empty()) {
       solver::ScopedTimer timer(summary.output_seconds);
-      integrator.drop_factorization();  // a restart starts without one
-      save(state);
+      summary.stop_checkpoint = save(state);
       prune_checkpoints(dir, state.step, sc.output.checkpoint_keep);
     }
     // This invocation ends at the end time or after max_steps, whichever
@@ -156,9 +159,14 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
          .energy_drift = drifts.energy,
          .newton_iterations = record.newton.iterations,
          .last = last});
+    if (!summary.stopped.empty()) {
+      ++taken;
+      break;
+    }
   }
   progress.finish();
   summary.steps = taken;
+  summary.end_time = state.time;
   for (int q = 0; q < kQuantities; ++q) {
     summary.drift[q] = drift.drift(q, totals.drift);
     summary.reference[q] = drift.reference(q, totals.drift);

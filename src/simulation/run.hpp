@@ -25,6 +25,10 @@ struct RunOptions {
   /// Called with each plausibility warning (simulation/plausibility.hpp)
   /// once the model is built, before anything is written; none if empty.
   std::function<void(const std::string&)> warn;
+  /// Asked after each step: a non-empty answer (why, e.g. "SIGTERM") ends
+  /// the run there with a checkpoint of that step and summary.json
+  /// (RunSummary::stopped); none if empty.
+  std::function<std::string()> stop;
 };
 
 /// Runs the scenario, writing history.csv, steps.csv (step, time, dt,
@@ -34,7 +38,8 @@ struct RunOptions {
 /// back after StepControl::kGrowAfter good steps. Throws InputError on bad
 /// input and SolverError when a step fails at the floor: the output up to
 /// the last converged step stays, and that state is saved as a checkpoint
-/// (named in the message).
+/// (named in the message). Asked to stop (RunOptions::stop), it ends after
+/// the step under way with a checkpoint and summary.json.
 RunSummary run(const io::Scenario& scenario, const RunOptions& options);
 
 /// The model a scenario describes, without running it.

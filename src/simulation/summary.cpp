@@ -58,6 +58,8 @@ Json figures(const RunSummary& s, int unknowns) {
               {"vtu_frames", s.vtu_frames},
               {"vtu_bytes", s.vtu_bytes},
               {"min_dt", s.min_dt},
+              {"end_time", s.end_time},
+              {"stopped", s.stopped.empty() ? Json(nullptr) : Json(s.stopped)},
               {"drift_reference",
                {{"energy", s.reference[0]},
                 {"momentum", s.reference[1]},

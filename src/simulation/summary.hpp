@@ -47,6 +47,11 @@ struct RunSummary {
   std::string thread_policy;
   int fewest_threads = 1, most_threads = 1;
   double min_dt = 0.0;          ///< smallest step size used [s]
+  /// Why the run stopped before its end (RunOptions::stop: "SIGTERM"),
+  /// empty if it did not, and the checkpoint it wrote then.
+  std::string stopped;
+  std::filesystem::path stop_checkpoint;
+  double end_time = 0.0;  ///< the time the run reached [s]
 };
 
 /// An input file of a run and its SHA-256.

@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/bytes.hpp"
 #include "core/error.hpp"
 #include "solver/direct_solver.hpp"
 #include "solver/petsc_session.hpp"
@@ -138,7 +139,10 @@ struct KrylovSolver::Petsc {
     if (x) VecDestroy(&x);
   }
 
+  std::uint64_t ksps = 0;  ///< KSPs made so far (generation())
+
   void make_ksp() {
+    ++ksps;
     if (ksp) KSPDestroy(&ksp);
     check(KSPCreate(PETSC_COMM_SELF, &ksp), "KSPCreate");
     check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
@@ -406,6 +410,31 @@ void KrylovSolver::set_operator(const SparseMatrix& M) {
     p.operators_set = true;
   }
   check(KSPSetUp(p.ksp), "the preconditioner set-up");  // builds the preconditioner now, timed here
+}
+
+std::uint64_t KrylovSolver::generation() const { return petsc_->kind == Preconditioner::gamg ? petsc_->ksps : 0; }
+
+std::string KrylovSolver::save_state() const {
+  const Petsc& p = *petsc_;
+  ByteWriter w;
+  w.value(static_cast<std::uint8_t>(p.gmres_matrix));
+  w.value(static_cast<std::uint8_t>(p.direct_ready));
+  w.value(static_cast<std::int32_t>(p.lu_first_left));
+  w.value(static_cast<std::int32_t>(p.lu_run));
+  return w.bytes();
+}
+
+void KrylovSolver::load_state(const std::string& bytes) {
+  Petsc& p = *petsc_;
+  ByteReader r(bytes, "the linear solver's state");
+  p.gmres_matrix = r.value<std::uint8_t>() != 0;
+  const bool direct = r.value<std::uint8_t>() != 0;
+  p.lu_first_left = r.value<std::int32_t>();
+  p.lu_run = r.value<std::int32_t>();
+  if (!r.at_end() || p.lu_first_left < 0 || p.lu_run < 1 || p.lu_run > kLongestLuRun)
+    r.fail("the linear solver's state is malformed");
+  p.direct_ready = false;
+  if (direct && p.last) p.factorize_lu(timings_);
 }
 
 LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out, double rtol) {

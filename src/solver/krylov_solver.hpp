@@ -36,6 +36,12 @@ class KrylovSolver final : public LinearSolver {
   LinearSolve solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, double rtol) override;
   [[nodiscard]] bool exact() const override { return false; }
   void reset() override;
+  /// GAMG: a new KSP (pattern or reset) builds a new interpolation.
+  [[nodiscard]] std::uint64_t generation() const override;
+  /// Whether the present matrix went to the LU, and the LU-first counters.
+  [[nodiscard]] std::string save_state() const override;
+  /// After the present matrix is set again: the counters, and its LU if it had one.
+  void load_state(const std::string& bytes) override;
   void set_coordinates(const Eigen::MatrixXd& X) override;
   [[nodiscard]] std::string name() const override;
 

@@ -7,6 +7,7 @@
 /// A solver is given a matrix (set_operator) and then solves with it any
 /// number of times; what it derives from the matrix (a factorization, a
 /// preconditioner) is its own business.
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -56,9 +57,19 @@ class LinearSolver {
   /// True for a direct solver: Newton then needs no forcing terms.
   [[nodiscard]] virtual bool exact() const = 0;
   /// Forgets what is kept from earlier matrices beyond the present one
-  /// (GAMG's interpolation), so that a restarted run, which starts without
-  /// it, repeats an uninterrupted one bit for bit.
+  /// (GAMG's interpolation).
   virtual void reset() {}
+  /// Changes when the solver starts keeping something derived from the
+  /// matrix it is set with for later matrices (GAMG builds its
+  /// interpolation from the first matrix of a pattern, after a reset);
+  /// constant for a solver that keeps nothing beyond the present matrix.
+  /// With it a checkpoint knows which matrices to set again so that the
+  /// solver is as it was (time/integrator.hpp).
+  [[nodiscard]] virtual std::uint64_t generation() const { return 0; }
+  /// The solver's own state beyond its matrices (which solver the next
+  /// matrices go to), as bytes, and back: a checkpoint carries it.
+  [[nodiscard]] virtual std::string save_state() const { return {}; }
+  virtual void load_state(const std::string& /*bytes*/) {}
   /// Reference coordinates of the nodes (D × nodes) for preconditioners
   /// that use the rigid-body modes; ignored by the others.
   virtual void set_coordinates(const Eigen::MatrixXd& /*X*/) {}

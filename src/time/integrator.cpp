@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <optional>
 
+#include "core/bytes.hpp"
 #include "core/error.hpp"
 #include "time/step_problem.hpp"
 
@@ -79,10 +81,23 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
           retry ? kSearchRetry : kSearchFirst);
     // A factorization of the plain system stays usable while no contact
     // couples it; a reduced system's T changes from pass to pass.
-    const int setups = timings_.linear_setups;
+    std::optional<Origin> first, last;  // of this solve's plain tangents
+    problem.observe_tangents([&](const Eigen::VectorXd& iterate) {
+      if (!plain) return;
+      last = Origin{state.u, state.v, iterate, state.time, dt};
+      if (!first) first = last;
+    });
+    const int setups = timings_.linear_setups, lu_first = timings_.lu_first;
     const solver::NewtonReport report =
         solver::solve_newton(problem, *solver_, newton_, plain && plain_factorization_, &nonlinearity_);
-    if (timings_.linear_setups != setups) plain_factorization_ = plain;
+    if (timings_.linear_setups != setups || timings_.lu_first != lu_first) {
+      plain_factorization_ = plain;
+      kept_ = std::move(last);
+      // A new generation starts at the solve's first matrix (its pattern
+      // is new, or the solver was reset).
+      if (solver_->generation() != generation_) source_ = std::move(first);
+    }
+    generation_ = solver_->generation();
     if (report.abandoned) {  // not taken: the caller ends it earlier
       interrupted_ = {state.step, dt, u_np1 - predicted};
       ++stats_.passes;
@@ -165,6 +180,78 @@ void Integrator<D>::add_impulses(double dt) {
       for (int i = 0; i < D; ++i)
         if (mask_.masked(f.master[b] * D + i)) impulse_[f.master[b] * D + i] += f.weights[b] * f.impulse[i] / dt;
   }
+}
+
+namespace {
+
+void write_origin(ByteWriter& w, const auto& o) {
+  w.value(o.time);
+  w.value(o.dt);
+  w.doubles(o.u.data(), static_cast<std::size_t>(o.u.size()));
+  w.doubles(o.v.data(), static_cast<std::size_t>(o.v.size()));
+  w.doubles(o.iterate.data(), static_cast<std::size_t>(o.iterate.size()));
+}
+
+template <class Origin>
+std::optional<Origin> read_origin(ByteReader& r, Eigen::Index dofs) {
+  if (r.value<std::uint8_t>() == 0) return std::nullopt;
+  Origin o;
+  o.time = r.value<double>();
+  o.dt = r.value<double>();
+  for (Eigen::VectorXd* v : {&o.u, &o.v, &o.iterate}) {
+    v->resize(dofs);
+    r.doubles(v->data(), static_cast<std::size_t>(dofs), "a kept tangent's state");
+  }
+  if (!(o.dt > 0.0) || !std::isfinite(o.time)) r.fail("a kept tangent's step is malformed");
+  return o;
+}
+
+}  // namespace
+
+template <int D>
+std::string Integrator<D>::save() const {
+  ByteWriter w;
+  w.value(static_cast<std::uint8_t>(plain_factorization_));
+  w.value(nonlinearity_);
+  for (const std::optional<Origin>* o : {&source_, &kept_}) {
+    w.value(static_cast<std::uint8_t>(o->has_value()));
+    if (*o) write_origin(w, **o);
+  }
+  w.text(solver_->save_state());
+  return w.bytes();
+}
+
+template <int D>
+void Integrator<D>::load(const std::string& bytes, const std::string& what) {
+  ByteReader r(bytes, what);
+  const bool plain = r.value<std::uint8_t>() != 0;
+  const double nonlinearity = r.value<double>();
+  const Eigen::Index dofs = assembler_.model().num_dofs();
+  std::optional<Origin> source = read_origin<Origin>(r, dofs), kept = read_origin<Origin>(r, dofs);
+  const std::string solver_state = r.text(1024, true);
+  if (!r.at_end()) r.fail("trailing bytes after the integrator's state");
+  drop_factorization();
+  // The solver's generation from its first matrix, then its present one.
+  if (source && kept) set_again(*source);
+  if (kept) set_again(*kept);
+  solver_->load_state(solver_state);
+  plain_factorization_ = plain && kept.has_value();
+  nonlinearity_ = nonlinearity;
+  source_ = std::move(source);
+  kept_ = std::move(kept);
+  generation_ = solver_->generation();
+}
+
+template <int D>
+void Integrator<D>::set_again(const Origin& origin) {
+  model::State start;
+  start.u = origin.u;
+  start.v = origin.v;
+  start.time = origin.time;
+  for (const auto& term : terms_) term->begin(start, origin.dt);
+  Eigen::VectorXd iterate = origin.iterate;
+  StepProblem<D> problem(assembler_, mask_, terms_, start, origin.dt, iterate, K_);
+  solver_->set_operator(problem.tangent());
 }
 
 template <int D>

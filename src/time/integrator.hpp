@@ -51,14 +51,26 @@ class Integrator {
   solver::NewtonReport step(model::State& state, double dt);
 
   /// Forgets the matrix kept for reuse (modified Newton) and what the
-  /// solver keeps across matrices: at a change of Δt, and at checkpoints,
-  /// so that a restarted run, which starts without them, repeats the
-  /// uninterrupted run bit for bit.
+  /// solver keeps across matrices: at a change of Δt and after a failed
+  /// attempt, as every run does.
   void drop_factorization() {
     plain_factorization_ = false;
     nonlinearity_ = -1.0;
+    kept_.reset();
+    source_.reset();
     solver_->reset();
   }
+
+  /// What the next steps take from the earlier ones beyond the state: the
+  /// tangent kept for reuse (modified Newton) and what the solver derived
+  /// from earlier matrices, as the states and iterates those matrices were
+  /// assembled at (not the matrices), the forcing terms' measure and the
+  /// solver's own state. load() assembles those matrices again and sets
+  /// the solver with them, so that a run restarted from a checkpoint
+  /// repeats the uninterrupted one bit for bit, and writing a checkpoint
+  /// changes nothing. Throws InputError naming `what` on bytes it cannot read.
+  [[nodiscard]] std::string save() const;
+  void load(const std::string& bytes, const std::string& what);
 
   /// After each step, set the active slaves' relative velocity to zero
   /// and give its energy back (contact/elimination/persistent_velocity.hpp); off: the
@@ -114,6 +126,17 @@ class Integrator {
   /// tolerance (docs/theory.md, "Impacts located in time", 4).
   static constexpr double kSearchFirst = 1e-2;
   static constexpr double kSearchRetry = 1e-6;
+  /// Where a plain (unreduced) tangent the solver was set with was
+  /// assembled: the step's start and the iterate.
+  struct Origin {
+    Eigen::VectorXd u, v, iterate;
+    double time = 0.0, dt = 0.0;
+  };
+  std::optional<Origin> kept_;    ///< the present matrix's, if plain
+  std::optional<Origin> source_;  ///< the first of the solver's present generation, if plain
+  std::uint64_t generation_ = 0;  ///< the solver's generation() at the last solve
+  /// Assembles the plain tangent at `origin` into K_ and sets the solver with it.
+  void set_again(const Origin& origin);
   bool plain_factorization_ = false;  ///< the solver holds a factorization of the unreduced system
   double nonlinearity_ = -1.0;        ///< the forcing terms' measure of the last solve (solver/newton.hpp)
 

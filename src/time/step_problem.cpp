@@ -103,6 +103,7 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
 
 template <int D>
 const SparseMatrix& StepProblem<D>::tangent() {
+  if (observer_) observer_(u_np1_);
   {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
     std::fill(K_.valuePtr(), K_.valuePtr() + K_.nonZeros(), 0.0);

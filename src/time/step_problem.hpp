@@ -73,6 +73,10 @@ class StepProblem final : public solver::NewtonProblem {
   /// passed on to a prescribed master included; 0 on the free dofs [N].
   /// Σ Δu·reactions() is the work of the prescribed motion over the step.
   [[nodiscard]] const Eigen::VectorXd& reactions() const { return reaction_; }
+  /// Called at each tangent() with the iterate it is taken at (before the
+  /// coupling reduces it): what the solver is then set with comes from
+  /// there (Integrator's checkpoints).
+  void observe_tangents(std::function<void(const Eigen::VectorXd&)> observer) { observer_ = std::move(observer); }
   /// Accumulate assembly and contact-coupling times there (may be null).
   void set_timings(solver::Timings* timings) { timings_ = timings; }
   /// Unknowns of the system (its free ones), as of the last residual.
@@ -102,6 +106,7 @@ class StepProblem final : public solver::NewtonProblem {
   int equations_ = 0;
   solver::Timings* timings_ = nullptr;
   std::function<bool(const Eigen::VectorXd&)> check_;
+  std::function<void(const Eigen::VectorXd&)> observer_;
   double check_at_ = 0.0;
   bool checked_ = false;
   double unused_ = 0.0;

@@ -263,15 +263,16 @@ TEST(Restart, RefusesATruncatedCheckpoint) {
   EXPECT_THAT(r.err, HasSubstr("cut.bin: bad checkpoint"));
 }
 
-/// Starts `conserve ARGS...` in `dir` with its output discarded; returns
-/// the child's process id.
-pid_t spawn_cli(const fs::path& dir, const std::vector<std::string>& args) {
+/// Starts `conserve ARGS...` in `dir` with its output discarded (its
+/// standard error into `err`, in dir, if given); returns the child's
+/// process id.
+pid_t spawn_cli(const fs::path& dir, const std::vector<std::string>& args, const char* err = nullptr) {
   const pid_t pid = fork();
   if (pid == 0) {
     if (chdir(dir.c_str()) != 0) _exit(127);
     const int null = open("/dev/null", O_WRONLY);
     dup2(null, 1);
-    dup2(null, 2);
+    dup2(err ? open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644) : null, 2);
     std::vector<char*> argv{const_cast<char*>(CONSERVE_BINARY)};
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -336,6 +337,79 @@ TEST(Restart, KilledRunContinuesBitIdentically) {
   EXPECT_TRUE(slurp(dir / "full/history.csv") == slurp(dir / "part/history.csv")) << "history.csv differs";
   EXPECT_TRUE(slurp(dir / "full/steps.csv") == slurp(dir / "part/steps.csv")) << "steps.csv differs";
   EXPECT_EQ(slurp(dir / "full/solution.pvd"), slurp(dir / "part/solution.pvd"));
+}
+
+// Writing checkpoints does not change the run (issue 52): the kept
+// tangent and the solver's state are set again from the checkpoint rather
+// than dropped, so a run with a checkpoint every 10 steps writes the same
+// history, byte for byte, as one without.
+TEST(Restart, CheckpointsDoNotChangeTheRun) {
+  const auto dir = scratch("restart_no_change");
+  const std::string base = ball_on_plane("stick", 0.12) + "[output]\nvtu_every = 0\n";
+  write_file(dir / "plain.toml", base);
+  write_file(dir / "checkpointed.toml", base + "checkpoint_every = 10\ncheckpoint_keep = 0\n");
+  ASSERT_EQ(run_cli("run plain.toml -q -o plain", dir).exit_code, 0);
+  ASSERT_EQ(run_cli("run checkpointed.toml -q -o checkpointed", dir).exit_code, 0);
+  ASSERT_TRUE(fs::exists(dir / "checkpointed/checkpoints/ckpt_000120.bin"));
+  EXPECT_TRUE(slurp(dir / "plain/history.csv") == slurp(dir / "checkpointed/history.csv")) << "history.csv differs";
+  EXPECT_TRUE(slurp(dir / "plain/steps.csv") == slurp(dir / "checkpointed/steps.csv")) << "steps.csv differs";
+}
+
+/// Starts `args` in `dir`, sends `signal` once history.csv has `rows` rows,
+/// and returns the process's exit status.
+int signalled_run(const fs::path& dir, const std::vector<std::string>& args, const fs::path& history, int rows,
+                  int signal) {
+  const pid_t pid = spawn_cli(dir, args, "err.txt");
+  int status = 0;
+  bool exited = false;
+  const auto lines = [&] {
+    const std::string text = fs::exists(history) ? slurp(history) : std::string();
+    return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  };
+  while (lines() < rows + 1 && !exited) {
+    exited = waitpid(pid, &status, WNOHANG) == pid;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  if (!exited) {
+    kill(pid, signal);
+    waitpid(pid, &status, 0);
+  }
+  return status;
+}
+
+// SIGTERM (a batch system's time limit) ends the run after the step under
+// way with a checkpoint, summary.json, one line and exit code 5; the
+// restart from that checkpoint writes the uninterrupted run's history.
+TEST(Restart, SigtermWritesACheckpointAndTheRestartRepeatsTheRun) {
+  const auto dir = scratch("restart_sigterm");
+  write_file(dir / "s.toml", ball_on_plane("stick", 0.3) + "[output]\nvtu_every = 0\n");
+  ASSERT_EQ(run_cli("run s.toml -q -o full", dir).exit_code, 0);
+  const int status = signalled_run(dir, {"run", "s.toml", "-q", "-o", "part"}, dir / "part/history.csv", 40, SIGTERM);
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by a signal";
+  ASSERT_EQ(WEXITSTATUS(status), 5) << "the run ended before the signal; give it more steps";
+  const std::string err = slurp(dir / "err.txt");
+  EXPECT_THAT(err, HasSubstr("conserve: stopped by SIGTERM at t = "));
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  const std::string summary = slurp(dir / "part/summary.json");
+  EXPECT_THAT(summary, HasSubstr("\"stopped\": \"SIGTERM\""));
+  const std::string at = "--restart ";
+  const std::string ckpt = err.substr(err.find(at) + at.size(), err.find(')', err.find(at)) - err.find(at) - at.size());
+  ASSERT_TRUE(fs::exists(dir / ckpt)) << ckpt;
+  std::printf("[ measured ] SIGTERM: the run stopped with %s\n", ckpt.c_str());
+  const CliResult rest = run_cli("run s.toml -q -o part --restart " + ckpt, dir);
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
+  EXPECT_TRUE(slurp(dir / "full/history.csv") == slurp(dir / "part/history.csv")) << "history.csv differs";
+  EXPECT_TRUE(slurp(dir / "full/steps.csv") == slurp(dir / "part/steps.csv")) << "steps.csv differs";
+}
+
+TEST(Restart, Sigusr1StopsTheRunLikeSigterm) {
+  const auto dir = scratch("restart_sigusr1");
+  write_file(dir / "s.toml", ball_on_plane("frictionless", 0.3) + "[output]\nvtu_every = 0\n");
+  const int status = signalled_run(dir, {"run", "s.toml", "-q", "-o", "out"}, dir / "out/history.csv", 20, SIGUSR1);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 5);
+  EXPECT_THAT(slurp(dir / "err.txt"), HasSubstr("conserve: stopped by SIGUSR1"));
+  EXPECT_THAT(slurp(dir / "out/summary.json"), HasSubstr("\"stopped\": \"SIGUSR1\""));
 }
 
 /// The checkpoint files in DIR/checkpoints, by name.
