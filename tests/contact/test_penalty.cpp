@@ -2,8 +2,8 @@
 // penalty_force.hpp): its work over a step is the potential's change to
 // round-off (the mid-point force, the negative control, misses it), it has
 // no resultant and no moment about the mid-point, it is along the normal on a fixed
-// facet, and its derivative, taken by automatic differentiation, matches
-// finite differences.
+// facet, and its derivative, taken by automatic differentiation, passes
+// the Taylor test (support/taylor.hpp).
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -12,9 +12,11 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "contact/facet.hpp"
 #include "contact/penalty/penalty_force.hpp"
+#include "support/taylor.hpp"
 
 namespace conserve::contact::penalty {
 namespace {
@@ -138,8 +140,12 @@ TEST(PenaltyForce, PotentialIsHalfKGapSquared2d) { check_potential_is_half_k_g_s
 TEST(PenaltyForce, PotentialIsHalfKGapSquared3d) { check_potential_is_half_k_g_squared<3>(); }
 
 // The derivative by y_{n+1} by automatic differentiation (what the tangent
-// assembles, PenaltyMethod::add_force) against central differences of the
-// force, for both forces and both kinds.
+// assembles, PenaltyMethod::add_force) by the Taylor test of the force
+// along random directions (a remainder of order 2, support/taylor.hpp),
+// for both forces and both kinds. Behind the facet, a stick spring's
+// potential and the gap's add up to ½ k |x_s − x(ξ₀)|², quadratic in y:
+// the mid-point force is then linear in y_{n+1}, and its remainder has no
+// order but is round-off at every step.
 template <int D>
 void check_tangent(bool conserving, bool stick) {
   constexpr int N = D * (D + 1);
@@ -153,22 +159,27 @@ void check_tangent(bool conserving, bool stick) {
   for (int a = 0; a <= D; ++a)
     for (int i = 0; i < D; ++i) y_ad(i, a) = Ad(y_1(i, a), N, a * D + i);
   const CouplingNodes<D, Ad> f_ad = penalty_force<D, Ad>(y_n, y_ad, k, conserving, anchor);
-  Eigen::Matrix<double, N, N> K, K_fd;
+  Eigen::Matrix<double, N, N> K;
   for (int a = 0; a <= D; ++a)
     for (int i = 0; i < D; ++i) K.row(a * D + i) = f_ad(i, a).derivatives().transpose();
-  const double h = 1e-6;
-  for (int c = 0; c < N; ++c) {
-    Nodes<D> yp = y_1, ym = y_1;
-    yp(c % D, c / D) += h;
-    ym(c % D, c / D) -= h;
-    const Nodes<D> df = (penalty_force<D, double>(y_n, yp, k, conserving, anchor) -
-                         penalty_force<D, double>(y_n, ym, k, conserving, anchor)) / (2 * h);
-    for (int a = 0; a <= D; ++a)
-      for (int i = 0; i < D; ++i) K_fd(a * D + i, c) = df(i, a);
-  }
   ASSERT_GT(K.norm(), 1e3) << "the tangent is not zero";
-  EXPECT_LT((K - K_fd).norm(), 1e-6 * K.norm()) << (conserving ? "conserving" : "mid-point")
-                                                 << (stick ? ", stick" : ", frictionless");
+  auto force = [&](const Eigen::VectorXd& y) {
+    return Eigen::VectorXd(
+        penalty_force<D, double>(y_n, Nodes<D>(y.reshaped(D, D + 1)), k, conserving, anchor).reshaped());
+  };
+  const std::string what =
+      std::string(conserving ? "conserving" : "mid-point") + (stick ? ", stick" : ", frictionless");
+  for (int direction = 0; direction < 3; ++direction) {
+    const Eigen::VectorXd d = test::random_direction(rng, N);
+    const test::TaylorOrder t = test::taylor_order(force, y_1.reshaped(), d, K * d, 1e-3);
+    std::printf("[ measured ] penalty force tangent %dD, %s, direction %d: %s\n", D, what.c_str(), direction + 1,
+                test::describe(t).c_str());
+    if (stick && !conserving) {
+      test::expect_exact(t, what);
+    } else {
+      test::expect_second_order(t, what);
+    }
+  }
 }
 TEST(PenaltyForce, TangentMatchesFiniteDifferences2d) {
   for (bool conserving : {true, false})
@@ -187,32 +198,31 @@ namespace {
 
 // Off a facet's face the potential is ½ k d² to the nearest edge or vertex
 // (point_potential): its gradient is the derivative (the nearest point's
-// parameter held, the envelope theorem), and through automatic
+// parameter held, the envelope theorem) by the Taylor test of the
+// potential along a random direction of (s, a, b), and through automatic
 // differentiation with a dynamic number of unknowns (the switching steps'
-// tangent) both match central differences.
+// tangent) the slave's row matches the closed form.
 TEST(PenaltyForce, EdgeAndVertexPotentialsDifferentiate) {
   using Ad = Eigen::AutoDiffScalar<Eigen::VectorXd>;
   const Eigen::Vector3d s(0.3, -0.2, -0.05), a(0.0, 0.0, 0.0), b(1.0, 0.1, 0.0);
-  const double k = 2e5, h = 1e-6;
+  const double k = 2e5;
+  std::mt19937 rng(17);
   for (const bool edge : {true, false}) {
     Eigen::Matrix<double, 3, 3> grad;
     const double phi = point_potential<3, double>(s, a, edge ? &b : nullptr, k, &grad);
     ASSERT_GT(phi, 0.0);
-    Eigen::Matrix<double, 3, 3> fd;
-    for (int node = 0; node < 3; ++node)
-      for (int i = 0; i < 3; ++i) {
-        Eigen::Matrix<double, 3, 3> p;
-        p << s, a, b;
-        Eigen::Matrix<double, 3, 3> m = p;
-        p(i, node) += h;
-        m(i, node) -= h;
-        const Eigen::Vector3d pb = p.col(2), mb = m.col(2);
-        fd(i, node) = (point_potential<3, double>(p.col(0), p.col(1), edge ? &pb : nullptr, k) -
-                       point_potential<3, double>(m.col(0), m.col(1), edge ? &mb : nullptr, k)) /
-                      (2 * h);
-      }
-    if (!edge) fd.col(2).setZero();
-    EXPECT_LT((grad - fd).norm(), 1e-6 * grad.norm()) << (edge ? "edge" : "vertex");
+    auto potential = [&](const Eigen::VectorXd& y) {
+      const Eigen::Vector3d yb = y.segment<3>(6);
+      return Eigen::VectorXd::Constant(
+          1, point_potential<3, double>(y.segment<3>(0), y.segment<3>(3), edge ? &yb : nullptr, k));
+    };
+    Eigen::VectorXd y(9);
+    y << s, a, b;
+    const Eigen::VectorXd d = test::random_direction(rng, 9);
+    const test::TaylorOrder t =
+        test::taylor_order(potential, y, d, Eigen::VectorXd::Constant(1, grad.reshaped().dot(d)), 1e-3);
+    std::printf("[ measured ] %s potential's gradient: %s\n", edge ? "edge" : "vertex", test::describe(t).c_str());
+    test::expect_second_order(t, edge ? "edge" : "vertex");
     // The gradient's own derivative by automatic differentiation.
     Eigen::Matrix<Ad, 3, 1> s_ad, a_ad, b_ad;
     for (int i = 0; i < 3; ++i) {

@@ -40,6 +40,17 @@ Mat<D> random_F(std::mt19937& rng, double amount) {
   }
 }
 
+/// A random symmetric direction of C, entries in ±1 within the first D rows
+/// and columns (plane strain keeps C_i3 fixed).
+template <int D>
+Mat3 random_symmetric(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Mat3 d = Mat3::Zero();
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j <= i; ++j) d(i, j) = d(j, i) = u(rng);
+  return d;
+}
+
 /// C = FᵀF embedded in 3 × 3 (C_33 = 1 in 2D).
 template <int D>
 Mat3 right_cauchy_green(const Mat<D>& F) {

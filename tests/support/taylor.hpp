@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -58,12 +59,27 @@ TaylorOrder taylor_order(F&& f, const Eigen::VectorXd& x, const Eigen::VectorXd&
   return t;
 }
 
-/// "order 2.00 (e 1.2e-3 … 3.1e-6, 4 pairs)" for the test's output.
+/// "order 2.00 (remainders 1.2e-3 … 3.1e-6 over 4 pairs, |J d| 5.0e+1)" for
+/// the test's output; with no pair above round-off (an affine f), the
+/// largest remainder against the floor.
 inline std::string describe(const TaylorOrder& t) {
   char text[160];
-  std::snprintf(text, sizeof text, "order %.2f (remainders %.1e … %.1e over %d pairs, |J d| %.1e)", t.order,
-                t.remainders.front(), t.remainders[static_cast<std::size_t>(std::max(t.pairs, 0))], t.pairs, t.slope);
+  if (t.pairs == 0) {
+    std::snprintf(text, sizeof text, "no order: remainders at most %.1e, round-off floor %.1e, |J d| %.1e",
+                  *std::max_element(t.remainders.begin(), t.remainders.end()), t.floor, t.slope);
+  } else {
+    std::snprintf(text, sizeof text, "order %.2f (remainders %.1e … %.1e over %d pairs, |J d| %.1e)", t.order,
+                  t.remainders.front(), t.remainders[static_cast<std::size_t>(t.pairs)], t.pairs, t.slope);
+  }
   return text;
+}
+
+/// A direction with `n` entries uniform in [−1, 1].
+inline Eigen::VectorXd random_direction(std::mt19937& rng, Eigen::Index n) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Eigen::VectorXd d(n);
+  for (Eigen::Index i = 0; i < n; ++i) d[i] = unit(rng);
+  return d;
 }
 
 /// The assertions of a Taylor test: a non-zero derivative, at least
@@ -73,6 +89,30 @@ inline void expect_second_order(const TaylorOrder& t, const std::string& what, i
   EXPECT_GT(t.slope, 0.0) << what << ": the derivative along the direction is zero";
   EXPECT_GE(t.pairs, min_pairs) << what << ": " << describe(t);
   EXPECT_GT(t.order, 1.8) << what << ": " << describe(t);
+}
+
+/// The largest remainder relative to the round-off floor (at most 1 for an
+/// affine f with its exact derivative).
+inline double largest_remainder(const TaylorOrder& t) {
+  return *std::max_element(t.remainders.begin(), t.remainders.end()) / t.floor;
+}
+
+/// The worse of two tests of one derivative (for the output): the lower
+/// order, or with no order either (an affine f), the larger remainder
+/// against the floor.
+inline const TaylorOrder& worse(const TaylorOrder& a, const TaylorOrder& b) {
+  if (a.pairs == 0 && b.pairs == 0) return largest_remainder(a) >= largest_remainder(b) ? a : b;
+  return b.order < a.order ? b : a;
+}
+
+/// The assertions of a Taylor test of an affine f (a constant derivative:
+/// the inertia's, SVK's stress in C, a facet's edge vectors), whose
+/// remainder is round-off at every step and has no order: a non-zero
+/// derivative and every remainder within the floor, where a wrong J would
+/// leave h |δJ d|, order 1.
+inline void expect_exact(const TaylorOrder& t, const std::string& what) {
+  EXPECT_GT(t.slope, 0.0) << what << ": the derivative along the direction is zero";
+  EXPECT_LE(largest_remainder(t), 1.0) << what << ": " << describe(t);
 }
 
 }  // namespace conserve::test

@@ -1,14 +1,18 @@
 // The step's residual as a sum of terms (time/step_terms.hpp): each term's
-// derivative against central differences of its value, the sum against
+// derivative by the Taylor test of its value, the sum against
 // the paper's (20) written out, and a term added from outside summed by
 // StepProblem into both the residual and the tangent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <random>
+#include <string>
 
 #include "material/svk_law.hpp"
 #include "model/initial_state.hpp"
 #include "support/grid_mesh.hpp"
+#include "support/taylor.hpp"
 #include "contact/surface.hpp"
 #include "time/step_problem.hpp"
 #include "time/surface_loads.hpp"
@@ -41,54 +45,50 @@ struct Fixture {
   }
 };
 
-/// max over columns of |∂value/∂u_j − central difference| relative to the
-/// derivative's largest column; returns {error, scale}.
-std::pair<double, double> derivative_error(StepTerm<3>& term, const Eigen::VectorXd& u, const SparseMatrix& pattern) {
+/// The Taylor test (support/taylor.hpp) of a term's value at u along a
+/// random direction, against its derivative times the direction.
+test::TaylorOrder derivative_order(StepTerm<3>& term, const Eigen::VectorXd& u, const SparseMatrix& pattern) {
   SparseMatrix K = pattern;
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   term.add_derivative(u, K);
-  const Eigen::MatrixXd dense(K);
   auto value = [&](const Eigen::VectorXd& x) {
     Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size()), m = Eigen::VectorXd::Zero(x.size());
     term.add_value(x, g, m);
     return g;
   };
-  const double h = 1e-6;
-  double error = 0.0, scale = 0.0;
-  for (Eigen::Index j = 0; j < u.size(); ++j) {
-    Eigen::VectorXd up = u, um = u;
-    up[j] += h;
-    um[j] -= h;
-    const Eigen::VectorXd fd = (value(up) - value(um)) / (2 * h);
-    error = std::max(error, (fd - dense.col(j)).norm());
-    scale = std::max(scale, dense.col(j).norm());
-  }
-  return {error, scale};
+  std::mt19937 rng(3);
+  const Eigen::VectorXd d = test::random_direction(rng, u.size());
+  return test::taylor_order(value, u, d, K * d, 1e-3);
 }
 
+// The inertia is linear in u_{n+1}: its remainder has no order but is
+// round-off at every step; the body force is constant, its derivative and
+// remainder exactly zero; the internal force's remainder is of order 2.
 TEST(StepTerms, EachDerivativeMatchesDifferencesOfItsValue) {
   Fixture f;
   StepTerms<3> terms = elastodynamic_terms(*f.assembler, fem::StressScheme::conserving);
   ASSERT_EQ(terms.size(), 3u);
   for (const auto& term : terms) {
     term->begin(f.start, Fixture::dt);
-    const auto [error, scale] = derivative_error(*term, f.u_np1, f.assembler->pattern().make_matrix());
-    std::printf("[ measured ] %s: derivative vs central differences %.2e (largest column %.2e)\n",
-                std::string(term->name()).c_str(), scale > 0 ? error / scale : error, scale);
-    if (term->name() == "body force") {
-      EXPECT_EQ(scale, 0.0);  // a constant force
-      EXPECT_EQ(error, 0.0);
+    const test::TaylorOrder t = derivative_order(*term, f.u_np1, f.assembler->pattern().make_matrix());
+    const std::string name(term->name());
+    std::printf("[ measured ] %s: %s\n", name.c_str(), test::describe(t).c_str());
+    if (name == "body force") {
+      EXPECT_EQ(t.slope, 0.0);  // a constant force
+      EXPECT_EQ(test::largest_remainder(t), 0.0);
+    } else if (name == "inertia") {
+      test::expect_exact(t, name);
     } else {
-      EXPECT_GT(scale, 1.0);  // non-zero guard
-      EXPECT_LT(error / scale, 1e-7);
+      test::expect_second_order(t, name);
     }
   }
 }
 
 // A follower pressure on the whole boundary and a traction on one face
 // (each with a curve): the pressure's derivative (its area vectors at the
-// mid-point configuration) against central differences; the traction's is
-// zero. On the closed surface the pressure has no resultant and no moment.
+// mid-point configuration) by the Taylor test, a remainder of order 2; the
+// traction's is zero. On the closed surface the pressure has no resultant
+// and no moment.
 TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferences) {
   Fixture f;
   f.model.prescribed.curves.push_back(model::Curve{{0.0, 1.0}, {0.5, 2.0}});
@@ -105,11 +105,9 @@ TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferences) {
   f.model.loads = {pressure, traction};
   SurfaceLoads<3> loads(*f.assembler);
   loads.begin(f.start, Fixture::dt);
-  const auto [error, scale] = derivative_error(loads, f.u_np1, f.assembler->pattern().make_matrix());
-  std::printf("[ measured ] surface loads: derivative vs central differences %.2e (largest column %.2e)\n",
-              error / scale, scale);
-  EXPECT_GT(scale, 1.0);
-  EXPECT_LT(error / scale, 1e-7);
+  const test::TaylorOrder t = derivative_order(loads, f.u_np1, f.assembler->pattern().make_matrix());
+  std::printf("[ measured ] surface loads: %s\n", test::describe(t).c_str());
+  test::expect_second_order(t, "surface loads");
   // The pressure alone: no resultant, no moment about the origin at the mid-point configuration.
   f.model.loads = {pressure};
   SurfaceLoads<3> alone(*f.assembler);
