@@ -102,6 +102,12 @@ void print_summary(const RunSummary& s) {
         s.statistic("activations"), s.statistic("releases"), s.statistic("held"), s.statistic("max_activation_gap"),
         s.statistic("min_active_gap"), s.statistic("max_active_gap"), s.statistic("max_penetration"),
         s.statistic("slave_penetration"), s.statistic("master_penetration"));
+  if (s.steps >= 20 && s.statistic("impact_splits") > 0.5 * static_cast<double>(s.steps))
+    fmt::print(
+        "contact: {} attempts of {} steps were cut short to locate impacts (an attempt given up and a shorter step "
+        "each); a larger [active_set] gap_tolerance or cluster_tolerance, or scheme = \"paper\", takes fewer "
+        "steps with the same conservation, at larger gaps held at activation\n",
+        s.statistic("impact_splits"), s.steps);
   if (s.statistic("velocity_update_failures") > 0)
     fmt::print(
         "contact: in {} step(s) the persistent-contact velocity update failed (its constraints' system singular, "

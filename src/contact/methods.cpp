@@ -13,6 +13,15 @@
 namespace conserve::contact {
 namespace {
 
+/// [active_set]'s impact location: onset gap_tolerance, cluster
+/// cluster_tolerance, over a window of kClusterWindow of the scenario's steps.
+ImpactLocation impact_location(const io::Scenario& s) {
+  constexpr double kClusterWindow = 2.0;
+  const io::ActiveSetSpec& a = s.active_set;
+  if (!a.locate_impacts) return {};
+  return {.onset = a.gap_tolerance, .cluster = a.cluster_tolerance, .window = kClusterWindow * s.time.step};
+}
+
 template <int D>
 using Maker = std::function<std::unique_ptr<Method<D>>(const io::Scenario&, const model::Model<D>&,
                                                       const SparseMatrix&, std::vector<ContactPair<D>>)>;
@@ -22,16 +31,13 @@ const std::vector<std::pair<std::string, Maker<D>>>& registry() {
   static const std::vector<std::pair<std::string, Maker<D>>> methods = {
       {"elimination",
        [](const io::Scenario& s, const model::Model<D>& m, const SparseMatrix& mass, std::vector<ContactPair<D>> p) {
-         const io::ActiveSetSpec& a = s.active_set;
-         return std::make_unique<EliminationMethod<D>>(m, mass, std::move(p),
-                                                       a.locate_impacts ? a.gap_tolerance : 0.0,
-                                                       a.scheme == io::ContactScheme::persistent);
+         return std::make_unique<EliminationMethod<D>>(m, mass, std::move(p), impact_location(s),
+                                                       s.active_set.scheme == io::ContactScheme::persistent);
        }},
       {"lagrange",
        [](const io::Scenario& s, const model::Model<D>& m, const SparseMatrix& mass, std::vector<ContactPair<D>> p) {
-         const io::ActiveSetSpec& a = s.active_set;
-         return std::make_unique<LagrangeMethod<D>>(m, mass, std::move(p), a.locate_impacts ? a.gap_tolerance : 0.0,
-                                                    a.scheme == io::ContactScheme::persistent);
+         return std::make_unique<LagrangeMethod<D>>(m, mass, std::move(p), impact_location(s),
+                                                    s.active_set.scheme == io::ContactScheme::persistent);
        }},
       {"penalty",
        [](const io::Scenario& s, const model::Model<D>& m, const SparseMatrix&, std::vector<ContactPair<D>> p) {

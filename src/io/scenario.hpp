@@ -127,6 +127,10 @@ struct ActiveSetSpec {
   /// each return is another split: the paper's scheme turns it off.
   bool locate_impacts = true;
   double gap_tolerance = 1e-3;
+  /// The largest gap (× the facet size) of an impact that follows the
+  /// first of its pair (contact spreading, a slave back after its release):
+  /// such impacts are taken together (contact::ImpactLocation).
+  double cluster_tolerance = 0.1;
   /// Shorten the steps ahead of a predicted lift-off, so that a slave lets
   /// go with almost no force left (contact::ActiveSet::release_step).
   bool locate_releases = false;

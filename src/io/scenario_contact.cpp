@@ -117,6 +117,11 @@ ActiveSetSpec parse_active_set(const Section& active_set) {
   spec.locate_impacts = active_set.has("locate_impacts") ? active_set.boolean("locate_impacts")
                                                          : spec.scheme == ContactScheme::persistent;
   spec.gap_tolerance = active_set.number("gap_tolerance");
+  spec.cluster_tolerance = active_set.number("cluster_tolerance");
+  if (spec.cluster_tolerance < spec.gap_tolerance)
+    active_set.fail("cluster_tolerance",
+                    fmt::format("{} is below gap_tolerance = {}", spec.cluster_tolerance, spec.gap_tolerance),
+                    "at least gap_tolerance: impacts that follow others are located no closer than a first one");
   spec.locate_releases = active_set.boolean("locate_releases");
   // With the paper's velocity an active slave's force reverses from step to
   // step (chatter), and the steps would shrink at every reversal: a block

@@ -543,8 +543,18 @@ SectionSpec active_set_section() {
                .default_value = "1e-3",
                .min = above(0),
                .max = below(1),
-               .doc = "largest gap a slave may be activated with, as a fraction of the longest edge of its "
-                      "slave facets (with `locate_impacts`)"},
+               .doc = "largest gap a slave meeting its master anew may be activated with, as a fraction of the "
+                      "longest edge of its slave facets (with `locate_impacts`)"},
+              {.name = "cluster_tolerance",
+               .type = KeyType::number,
+               .default_value = "0.1",
+               .min = above(0),
+               .max = below(1),
+               .doc = "the same for an impact that follows the first of its pair (with `locate_impacts`): any "
+                      "slave of a pair in contact, or that had a slave activated or released within two steps "
+                      "(contact that spreads, a patch whose nodes rattle); such impacts are taken together, each "
+                      "held at the gap it has up to this, instead of each cutting a step; at least "
+                      "`gap_tolerance`"},
               {.name = "locate_releases",
                .type = KeyType::boolean,
                .default_value = "false",

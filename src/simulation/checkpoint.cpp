@@ -31,8 +31,9 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 13: the contact method's state as its own bytes (contact::Method::save).
 /// 14: a penalty force's pair and whole vector; the state's load work.
 /// 15: the state's work of each support and released energy; the drifts'
-/// deviations instead of their ratios. 16: the integrator's state.
-constexpr std::uint32_t kVersion = 16;
+/// deviations instead of their ratios. 16: the integrator's state. 17:
+/// the contact's release and activation times (contact::ImpactLocation).
+constexpr std::uint32_t kVersion = 17;
 
 using Writer = ByteWriter;
 using Reader = ByteReader;

@@ -186,6 +186,8 @@ Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& 
   f.setting("[active_set] locate_releases", sc.active_set.locate_releases ? "true" : "false");
   f.add("[active_set] gap_tolerance", fmt::format("{}", sc.active_set.gap_tolerance),
         [&](Hasher& h) { h.value(sc.active_set.gap_tolerance); });
+  f.add("[active_set] cluster_tolerance", fmt::format("{}", sc.active_set.cluster_tolerance),
+        [&](Hasher& h) { h.value(sc.active_set.cluster_tolerance); });
   f.setting("contact pairs", fmt::format("{}", sc.contacts.size()));
   for (std::size_t i = 0; i < sc.contacts.size(); ++i) add_contact(f, i, sc.contacts[i]);
   return f.take();

@@ -15,7 +15,11 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
       collisions_(model, std::move(pairs)),
       released_(model.num_nodes(), 0),
       held_(model.num_nodes(), 0),
-      given_up_(model.num_nodes(), 0) {
+      given_up_(model.num_nodes(), 0),
+      released_at_(model.num_nodes(), -std::numeric_limits<double>::infinity()),
+      activated_at_(static_cast<std::size_t>(collisions_.size()), -std::numeric_limits<double>::infinity()),
+      activated_(static_cast<std::size_t>(collisions_.size()), 0),
+      in_contact_(static_cast<std::size_t>(collisions_.size()), 0) {
   slot_.assign(model.num_nodes(), -1);
   index_active();
 }
@@ -70,9 +74,13 @@ std::optional<Constraint<D>> ActiveSet<D>::crease(int p, int s, const Match<D>& 
 }
 
 template <int D>
-void ActiveSet<D>::begin_step(std::int64_t step, double dt, const Eigen::VectorXd& v_n) {
+void ActiveSet<D>::begin_step(std::int64_t step, double time, double dt, const Eigen::VectorXd& v_n) {
   if (located()) dt_ = dt, v_n_ = v_n;
+  time_ = time;
   std::fill(released_.begin(), released_.end(), 0);
+  std::fill(activated_.begin(), activated_.end(), 0);
+  std::fill(in_contact_.begin(), in_contact_.end(), 0);
+  for (const Constraint<D>& c : active_) in_contact_[static_cast<std::size_t>(c.pair)] = 1;
   std::fill(held_.begin(), held_.end(), 0);
   std::fill(given_up_.begin(), given_up_.end(), 0);
   old_given_up_ = 0;
@@ -198,8 +206,24 @@ void ActiveSet<D>::hold_pushes(const Eigen::VectorXd& u_n) {
 }
 
 template <int D>
-void ActiveSet<D>::locate_impacts(double gap_tolerance) {
-  gap_tolerance_ = gap_tolerance > 0.0 ? gap_tolerance : 0.0;
+void ActiveSet<D>::locate_impacts(const ImpactLocation& location) {
+  location_ = location;
+  if (!(location_.onset > 0.0)) location_ = {};
+  location_.cluster = std::max(location_.cluster, location_.onset);
+}
+
+template <int D>
+void ActiveSet<D>::end_step(double time) {
+  for (std::size_t node = 0; node < released_.size(); ++node)
+    if (released_[node]) released_at_[node] = time;
+  for (std::size_t p = 0; p < activated_.size(); ++p)
+    if (activated_[p]) activated_at_[p] = time;
+}
+
+template <int D>
+void ActiveSet<D>::set_event_times(std::vector<double> releases, std::vector<double> activations) {
+  released_at_ = std::move(releases);
+  activated_at_ = std::move(activations);
 }
 
 // The path within the step that the mid-point scheme implies is the
@@ -264,7 +288,10 @@ double ActiveSet<D>::facet_size(int pair, int slave) const {
 template <int D>
 double ActiveSet<D>::gap_tolerance(int pair, int slave) const {
   if (!located()) return std::numeric_limits<double>::infinity();
-  return gap_tolerance_ * facet_size(pair, slave);
+  const auto p = static_cast<std::size_t>(pair);
+  const bool follows = in_contact_[p] || time_ - activated_at_[p] <= location_.window ||
+                       time_ - released_at_[slave] <= location_.window;
+  return (follows ? location_.cluster : location_.onset) * facet_size(pair, slave);
 }
 
 template <int D>
@@ -377,6 +404,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   for (const Constraint<D>& c : activated) {
     stats.max_activation_gap = std::max(stats.max_activation_gap, c.gap);
     ++stats.activations;
+    activated_[static_cast<std::size_t>(c.pair)] = 1;
     if (released_[c.slave]) held_[c.slave] = 1, ++stats.held;
     active_.push_back(c);
     normal_forces_.push_back(0.0);

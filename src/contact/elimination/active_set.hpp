@@ -79,6 +79,20 @@ struct ActiveGaps {
   double max = 0.0;
 };
 
+/// Impacts located in time ([active_set] locate_impacts): a slave is
+/// activated with a gap of at most a tolerance × its facet size, a step in
+/// which one would arrive from further out being cut short where it
+/// arrives. The first impact of a pair is located to `onset`; the impacts
+/// that follow it (any slave of a pair in contact, or that had one
+/// activated or released within `window`: contact that spreads, a patch
+/// whose nodes rattle) are taken together, each held at the gap it has up
+/// to `cluster`, so that they do not cut every step.
+struct ImpactLocation {
+  double onset = 0.0;    ///< fraction of the facet size; 0: impacts not located
+  double cluster = 0.0;  ///< fraction of the facet size (≥ onset)
+  double window = 0.0;   ///< [s]
+};
+
 template <int D>
 class ActiveSet {
  public:
@@ -97,7 +111,11 @@ class ActiveSet {
   /// the previous one and keeps each constraint's force at its end
   /// (Constraint::start_force); dt and v_n serve the crossing estimate of
   /// located impacts.
-  void begin_step(std::int64_t step, double dt, const Eigen::VectorXd& v_n);
+  /// Step `step` of length dt from time t_n with velocities v_n.
+  void begin_step(std::int64_t step, double time, double dt, const Eigen::VectorXd& v_n);
+  /// The step is taken, ending at time t_{n+1}: its releases and
+  /// activations start their windows (ImpactLocation).
+  void end_step(double time);
 
   /// The direct elimination of the active constraints for one solve of the
   /// step u_n → u (u is not modified: call enforce()). It works on this
@@ -133,11 +151,16 @@ class ActiveSet {
   /// would say), 1 if none; the set is not changed.
   [[nodiscard]] double split_fraction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u);
 
-  /// Impacts located in time ([active_set] locate_impacts): slaves are
-  /// activated with a gap of at most `gap_tolerance` × (the longest edge
-  /// of their slave facets), a step that would activate one further out
-  /// being split (update()); 0 turns it off (the paper's activation).
-  void locate_impacts(double gap_tolerance);
+  /// Impacts located in time (ImpactLocation): a step that would activate
+  /// a slave further out than its tolerance is split (update());
+  /// onset = 0 turns it off (the paper's activation).
+  void locate_impacts(const ImpactLocation& location);
+  /// Per node the time of its last release, and per pair of its last
+  /// activation, in taken steps (−∞: none): the windows of ImpactLocation,
+  /// which the method's saved state carries.
+  [[nodiscard]] const std::vector<double>& release_times() const { return released_at_; }
+  [[nodiscard]] const std::vector<double>& activation_times() const { return activated_at_; }
+  void set_event_times(std::vector<double> releases, std::vector<double> activations);
   /// Whether update() may ask for a split (the stepper forbids it once a
   /// step has been split too often or would become too short).
   void allow_splits(bool allow) { allow_splits_ = allow; }
@@ -262,10 +285,15 @@ class ActiveSet {
   int old_given_up_ = 0;
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step
-  /// With impacts located, the largest gap a slave is activated with as a
-  /// fraction of its facet size (gap_tolerance()); 0 when they are not.
-  double gap_tolerance_ = 0.0;
-  [[nodiscard]] bool located() const { return gap_tolerance_ > 0.0; }
+  /// With impacts located, the largest gaps a slave is activated with as
+  /// fractions of its facet size (gap_tolerance()); onset 0 when they are not.
+  ImpactLocation location_;
+  [[nodiscard]] bool located() const { return location_.onset > 0.0; }
+  double time_ = 0.0;                 ///< t_n of the step under way
+  std::vector<double> released_at_;   ///< per node: its last release in a taken step [s]
+  std::vector<double> activated_at_;  ///< per pair: its last activation in a taken step [s]
+  std::vector<char> activated_;       ///< per pair: a slave activated in this step
+  std::vector<char> in_contact_;      ///< per pair: a constraint active at the step's start
   bool allow_splits_ = true;
   double dt_ = 0.0;         ///< the step under way (located impacts)
   Eigen::VectorXd v_n_;     ///< velocities at its start (located impacts)

@@ -53,15 +53,17 @@ Constraint<D> read_constraint(ByteReader& r, int num_nodes, int num_pairs) {
 
 template <int D>
 EliminationMethod<D>::EliminationMethod(const model::Model<D>& model, const SparseMatrix& mass,
-                                        std::vector<ContactPair<D>> pairs, double gap_tolerance, bool persistent)
+                                        std::vector<ContactPair<D>> pairs, const ImpactLocation& location,
+                                        bool persistent)
     : model_(model), active_(model, std::move(pairs)), restorer_(model, mass) {
   if (persistent) persistent_.emplace(model, mass);
-  active_.locate_impacts(gap_tolerance);
+  active_.locate_impacts(location);
 }
 
 template <int D>
 void EliminationMethod<D>::begin_step(std::int64_t step, double dt, const model::State& start) {
-  active_.begin_step(step, dt, start.v);
+  active_.begin_step(step, start.time, dt, start.v);
+  end_time_ = start.time + dt;
 }
 
 template <int D>
@@ -102,6 +104,7 @@ Verdict EliminationMethod<D>::settle(const model::State& start, double dt, const
 template <int D>
 void EliminationMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
                                        Eigen::VectorXd& v_np1, StepContactStats& stats) {
+  active_.end_step(end_time_);
   stats.master_penetration = active_.master_penetration(u_np1, u_n).depth;
   const auto& constraints = active_.constraints();
   const auto& normal = active_.normal_forces();
@@ -131,6 +134,8 @@ std::string EliminationMethod<D>::save() const {
   ByteWriter w;
   w.value(static_cast<std::uint64_t>(active_.constraints().size()));
   for (const auto& c : active_.constraints()) write_constraint<D>(w, c);
+  w.doubles(active_.release_times().data(), active_.release_times().size());
+  w.doubles(active_.activation_times().data(), active_.activation_times().size());
   return w.bytes();
 }
 
@@ -143,8 +148,12 @@ void EliminationMethod<D>::load(const std::string& bytes, const std::string& wha
   std::vector<Constraint<D>> constraints;
   const int pairs = static_cast<int>(active_.pairs().size());
   for (std::uint64_t i = 0; i < count; ++i) constraints.push_back(read_constraint<D>(r, model_.num_nodes(), pairs));
+  std::vector<double> releases(active_.release_times().size()), activations(active_.activation_times().size());
+  r.doubles(releases.data(), releases.size(), "the slaves' release times");
+  r.doubles(activations.data(), activations.size(), "the pairs' activation times");
   if (!r.at_end()) r.fail("trailing bytes after the constraints");
   active_.set_constraints(std::move(constraints));
+  active_.set_event_times(std::move(releases), std::move(activations));
 }
 
 // After a restart, the loaded constraints' normal forces alone (until the next step).

@@ -68,11 +68,11 @@ class EliminationCoupling final : public Coupling {
 template <int D>
 class EliminationMethod : public Method<D> {
  public:
-  /// `gap_tolerance` > 0 locates impacts (ActiveSet::locate_impacts);
+  /// `location` (onset > 0) locates impacts (ActiveSet::locate_impacts);
   /// `persistent` sets the active slaves' relative velocity to zero after
   /// each step. `mass` is the assembler's; both must outlive the method.
   EliminationMethod(const model::Model<D>& model, const SparseMatrix& mass, std::vector<ContactPair<D>> pairs,
-                    double gap_tolerance, bool persistent);
+                    const ImpactLocation& location, bool persistent);
 
   [[nodiscard]] std::string_view name() const override { return "elimination"; }
   [[nodiscard]] CollisionSet<D>& collisions() override { return active_.collisions(); }
@@ -116,6 +116,7 @@ class EliminationMethod : public Method<D> {
   /// The constraints' forces at the last step's end (contact_forces), in
   /// their order, with the work and the persistency impulses of the step.
   std::vector<ContactForce<D>> forces_;
+  double end_time_ = 0.0;  ///< t_{n+1} of the step under way
 };
 
 }  // namespace conserve::contact

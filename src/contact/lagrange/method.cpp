@@ -184,8 +184,9 @@ class LagrangeCoupling final : public Coupling {
 
 template <int D>
 LagrangeMethod<D>::LagrangeMethod(const model::Model<D>& model, const SparseMatrix& mass,
-                                  std::vector<ContactPair<D>> pairs, double gap_tolerance, bool persistent)
-    : EliminationMethod<D>(model, mass, std::move(pairs), gap_tolerance, persistent),
+                                  std::vector<ContactPair<D>> pairs, const ImpactLocation& location,
+                                  bool persistent)
+    : EliminationMethod<D>(model, mass, std::move(pairs), location, persistent),
       mean_mass_(mass.diagonal().mean()) {}
 
 template <int D>

@@ -27,7 +27,7 @@ template <int D>
 class LagrangeMethod final : public EliminationMethod<D> {
  public:
   LagrangeMethod(const model::Model<D>& model, const SparseMatrix& mass, std::vector<ContactPair<D>> pairs,
-                 double gap_tolerance, bool persistent);
+                 const ImpactLocation& location, bool persistent);
   [[nodiscard]] std::string_view name() const override { return "lagrange"; }
   void begin_step(std::int64_t step, double dt, const model::State& start) override;
   [[nodiscard]] std::unique_ptr<Coupling> coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) override;
