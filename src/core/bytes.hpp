@@ -26,7 +26,7 @@ class ByteWriter {
   }
   void doubles(const double* data, std::size_t count) {
     value(static_cast<std::uint64_t>(count));
-    buffer_.append(reinterpret_cast<const char*>(data), count * sizeof(double));
+    if (count > 0) buffer_.append(reinterpret_cast<const char*>(data), count * sizeof(double));
   }
   [[nodiscard]] const std::string& bytes() const { return buffer_; }
 
@@ -72,6 +72,7 @@ class ByteReader {
  private:
   void take(void* data, std::size_t size) {
     if (bytes_.size() - at_ < size) fail("the file is truncated");
+    if (size == 0) return;  // data may be an empty vector's null pointer, which memcpy may not take
     std::memcpy(data, bytes_.data() + at_, size);
     at_ += size;
   }
