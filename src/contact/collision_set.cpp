@@ -60,7 +60,7 @@ bool entered_through(const ContactPair<D>& pair, int s, const Match<D>& end, con
 template <int D>
 CollisionSet<D>::CollisionSet(const model::Model<D>& model, std::vector<ContactPair<D>> pairs)
     : pairs_(std::move(pairs)), prescribed_(static_cast<std::size_t>(model.num_nodes()), 0) {
-  for (int d : model.prescribed.dofs) prescribed_[static_cast<std::size_t>(d / D)] = 1;
+  for (int d : model.held_dofs()) prescribed_[static_cast<std::size_t>(d / D)] = 1;
   const Positions<D> x = model.X;
   for (auto& pair : pairs_) {
     pair.tree.build(pair.master.facets, x);

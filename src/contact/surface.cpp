@@ -84,10 +84,9 @@ Eigen::MatrixXi group_facets(const model::Model<D>& model, const model::Body& bo
   return facets;
 }
 
-/// Whether every dof of every node is prescribed.
+/// Whether every dof of every node is held (prescribed, or a free rigid body's).
 template <int D>
-bool all_prescribed(const std::vector<int>& nodes, const model::Prescribed& prescribed) {
-  std::vector<int> dofs = prescribed.dofs;
+bool all_prescribed(const std::vector<int>& nodes, std::vector<int> dofs) {
   std::sort(dofs.begin(), dofs.end());
   return std::all_of(nodes.begin(), nodes.end(), [&](int node) {
     for (int i = 0; i < D; ++i)
@@ -165,7 +164,7 @@ ContactSurface make_surface(const model::Model<D>& model, int body, const std::s
   if (surface.facets.cols() == 0)
     throw InputError(fmt::format("contact surface: body '{}', group '{}' has no facets", b.name, group));
   build_adjacency(surface, D);
-  surface.rigid = all_prescribed<D>(surface.nodes, model.prescribed);
+  surface.rigid = all_prescribed<D>(surface.nodes, model.held_dofs());
   return surface;
 }
 

@@ -20,7 +20,8 @@ struct ContactSurface {
   /// facet_neighbours(k, f): the facet sharing with f the edge (3D) or vertex
   /// (2D) opposite f's local node k, or −1 on the surface's border.
   Eigen::MatrixXi facet_neighbours;
-  /// Every degree of freedom of the surface's nodes is prescribed.
+  /// Every degree of freedom of the surface's nodes is held: prescribed, or
+  /// a free rigid body's (a rigid surface).
   bool rigid = false;
 
   [[nodiscard]] int num_facets() const { return static_cast<int>(facets.cols()); }

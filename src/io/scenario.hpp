@@ -67,6 +67,10 @@ struct BodySpec {
   /// bare surface (no cells), made by the generators `square` and `segment`
   /// or read from a .msh surface or line mesh or an STL file.
   bool rigid = false;
+  /// A rigid body whose motion contact, gravity and its initial velocity
+  /// and spin decide (time/free_bodies.hpp) instead of a prescription: it
+  /// needs a density and cells; no curves, no `center` (its centre of mass).
+  bool free = false;
   /// Rigid bodies: the point it turns about [m]; none: its bounding box's centre.
   std::optional<Eigen::Vector3d> center;
   std::string velocity_curve;          ///< rigid bodies: [[curve]] scaling velocity; empty: none

@@ -138,12 +138,22 @@ void reject_on_deformable_body(const Section& s, std::string_view key) {
 
 /// The material: required for a deformable body, optional (but validated)
 /// for a rigid one, which without it keeps zeros (setup makes it massless).
-MaterialSpec parse_body_material(const Section& s, bool rigid) {
+/// A rigid body's material may be its density alone (its elastic
+/// constants are not used); given, they are checked as a deformable body's.
+MaterialSpec parse_body_material(const Section& s, bool rigid, bool optional) {
   if (!s.has("material")) {
-    if (!rigid) s.fail("material", "missing key", "a table [material]; only a rigid body may omit it");
+    if (!optional)
+      s.fail("material", rigid ? "a free rigid body needs a density" : "missing key",
+             rigid ? "[body.material] with density > 0" : "a table [material]; only a rigid body may omit it");
     return {};
   }
-  return parse_material(s.table("material"));
+  const Section material = s.table("material");
+  if (rigid && material.keys_in_file_order() == std::vector<std::string>{"density"}) {
+    MaterialSpec out;
+    out.density = material.number("density");
+    return out;
+  }
+  return parse_material(material);
 }
 
 BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file,
@@ -152,6 +162,16 @@ BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file
   body.name = s.string("name");
   check_name(s, "name", body.name);
   body.rigid = s.boolean("rigid");
+  body.free = s.boolean("free");
+  if (body.free && !body.rigid) s.fail("free", "is only allowed on a rigid body", "rigid = true with free = true");
+  if (body.free) {
+    for (const char* key : {"center", "velocity_curve", "angular_velocity_curve"})
+      if (s.has(key))
+        s.fail(key, "is not allowed on a free rigid body",
+               fmt::format("no {}: a free body turns about its centre of mass, at the rate contact and its "
+                           "initial spin give",
+                           key));
+  }
   if (body.rigid) {
     reject_on_rigid_body(s, "initial_deformation");
     if (s.has("center")) body.center = s.vector("center");
@@ -166,7 +186,9 @@ BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file
   body.angular_velocity = s.angular_velocity("angular_velocity");
   body.initial_deformation = parse_initial_deformation(s);
   body.thickness = parse_thickness(s);
-  body.material = parse_body_material(s, body.rigid);
+  body.material = parse_body_material(s, body.rigid, body.rigid && !body.free);
+  if (body.free && !(body.material.density > 0.0))
+    s.fail("material", "a free rigid body needs a density", "[body.material] with density > 0");
   body.mesh = parse_mesh(s.table("mesh"), scenario_file);
   return body;
 }

@@ -285,6 +285,14 @@ SectionSpec body_section() {
                       "(docs/user-guide.md, \"Rigid bodies\"); no `initial_deformation` or [[boundary]]; "
                       "`material` optional; its mesh may be a bare surface (`square`, `segment`, a .msh surface "
                       "or line mesh, an STL file)"},
+              {.name = "free",
+               .type = KeyType::boolean,
+               .default_value = "false",
+               .doc = "with `rigid = true`: a free rigid body, whose motion contact, gravity and its initial "
+                      "`velocity` and `angular_velocity` decide (energy–momentum conserving, docs/theory.md, "
+                      "\"Free rigid bodies\"); it needs a [body.material] `density` and a mesh with cells (its "
+                      "mass, centre of mass and inertia come from them); no curves or `center`; it is the master "
+                      "of its contact pairs"},
               {.name = "translate",
                .type = KeyType::vector,
                .default_value = "zeros",
@@ -359,7 +367,7 @@ SectionSpec rotate_section() {
 SectionSpec material_section() {
   return {.name = "body.material",
           .doc = "Material of the body: a point law (`model`) with its parameters, listed under \"Material "
-                 "models\" below, and the density.",
+                 "models\" below, and the density. A rigid body's may be its `density` alone.",
           .keys = {
               {.name = "model",
                .type = KeyType::string,

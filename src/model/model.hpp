@@ -37,6 +37,14 @@ constexpr int dof(int node, int i) {
   return node * D + i;
 }
 
+/// A free rigid body (time/free_bodies.hpp): its nodes move rigidly, as its
+/// centre and rotation say; their degrees of freedom are held out of the
+/// nodal system as prescribed ones are.
+struct FreeBody {
+  int body = -1;  ///< index into Model::bodies
+  int first_node = 0, num_nodes = 0;
+};
+
 template <int D>
 struct Model {
   Eigen::Matrix<double, D, Eigen::Dynamic> X;     ///< reference coordinates, D × n_nodes [m]
@@ -48,10 +56,19 @@ struct Model {
   int gravity_curve = -1;           ///< index into prescribed.curves scaling gravity; −1: constant
   std::vector<SurfaceLoad> loads;
   Prescribed prescribed;
+  std::vector<FreeBody> free_bodies;
 
   [[nodiscard]] int num_nodes() const { return static_cast<int>(X.cols()); }
   [[nodiscard]] int num_cells() const { return static_cast<int>(cells.cols()); }
   [[nodiscard]] int num_dofs() const { return D * num_nodes(); }
+  /// The dofs the nodal system holds: the prescribed ones, then the free
+  /// rigid bodies' (whose motion has its own unknowns).
+  [[nodiscard]] std::vector<int> held_dofs() const {
+    std::vector<int> dofs = prescribed.dofs;
+    for (const FreeBody& b : free_bodies)
+      for (int d = b.first_node * D; d < (b.first_node + b.num_nodes) * D; ++d) dofs.push_back(d);
+    return dofs;
+  }
   /// Diagonal of the bounding box of the reference configuration [m].
   [[nodiscard]] double size() const {
     return num_nodes() ? (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm() : 0.0;

@@ -1,10 +1,21 @@
 #pragma once
 /// The state of a run at one instant: flat node-major vectors.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
 namespace conserve::model {
+
+/// The motion of a free rigid body (time/free_bodies.hpp): its nodes are at
+/// x = center + rotation (X − the reference centre), moving at
+/// velocity + spin × (x − center). In 2D, rotation and spin are about z.
+struct RigidBodyState {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();    ///< its centre of mass [m]
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< [m/s]
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d spin = Eigen::Vector3d::Zero();  ///< angular velocity ω, spatial [rad/s]
+};
 
 struct State {
   std::int64_t step = 0;  ///< steps since t = 0 (64-bit: long runs pass 2^31 steps)
@@ -21,6 +32,8 @@ struct State {
   /// Energy contact let go of outside the steps' balance since t = 0 (a
   /// penalty's released springs) [J]: counted with E in the drift.
   double released = 0.0;
+  /// The free rigid bodies' motions (Model::free_bodies, in order).
+  std::vector<RigidBodyState> rigid;
 };
 
 }  // namespace conserve::model

@@ -32,7 +32,8 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 14: a penalty force's pair and whole vector; the state's load work.
 /// 15: the state's work of each support and released energy; the drifts'
 /// deviations instead of their ratios. 16: the integrator's state. 17:
-/// the contact's release and activation times (contact::ImpactLocation).
+/// the contact's release and activation times (contact::ImpactLocation);
+/// the free rigid bodies' motions.
 constexpr std::uint32_t kVersion = 17;
 
 using Writer = ByteWriter;
@@ -153,6 +154,13 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(static_cast<std::uint64_t>(c.state.support_work.size()));
   w.doubles(c.state.support_work.data(), c.state.support_work.size());
   w.value(c.state.released);
+  w.value(static_cast<std::uint64_t>(c.state.rigid.size()));
+  for (const model::RigidBodyState& b : c.state.rigid) {
+    w.doubles(b.center.data(), 3);
+    w.doubles(b.velocity.data(), 3);
+    w.doubles(b.rotation.data(), 9);
+    w.doubles(b.spin.data(), 3);
+  }
   w.value(c.control.dt);
   w.value(static_cast<std::int32_t>(c.control.good_steps));
   w.value(static_cast<std::int64_t>(c.control.cutbacks));
@@ -204,6 +212,14 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.state.support_work.resize(model.prescribed.supports.size());
   r.doubles(c.state.support_work.data(), c.state.support_work.size(), "the supports' work");
   c.state.released = r.value<double>();
+  if (r.value<std::uint64_t>() != model.free_bodies.size()) r.fail("the free bodies differ from the scenario's");
+  c.state.rigid.resize(model.free_bodies.size());
+  for (model::RigidBodyState& b : c.state.rigid) {
+    r.doubles(b.center.data(), 3, "a free body's centre");
+    r.doubles(b.velocity.data(), 3, "a free body's velocity");
+    r.doubles(b.rotation.data(), 9, "a free body's rotation");
+    r.doubles(b.spin.data(), 3, "a free body's spin");
+  }
   c.control.dt = r.value<double>();
   c.control.good_steps = r.value<std::int32_t>();
   c.control.cutbacks = r.value<std::int64_t>();

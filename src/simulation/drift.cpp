@@ -48,7 +48,7 @@ Conservation conservation(const io::Scenario& scenario) {
   // A rigid body moves as prescribed: it takes what it touches (or, with
   // mass, what its motion needs).
   for (std::size_t i = 0; i < scenario.bodies.size(); ++i) {
-    if (!scenario.bodies[i].rigid) continue;
+    if (!scenario.bodies[i].rigid || scenario.bodies[i].free) continue;
     bool touches = scenario.bodies[i].material.density > 0.0;
     for (const auto& contact : scenario.contacts)
       touches = touches || contact.slave_body == scenario.bodies[i].name || contact.master_body == scenario.bodies[i].name;

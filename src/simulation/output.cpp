@@ -14,7 +14,8 @@ namespace conserve::simulation {
 
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names,
                                          const std::vector<std::string>& pair_names,
-                                         const std::vector<std::string>& support_names) {
+                                         const std::vector<std::string>& support_names,
+                                         const std::vector<std::string>& free_names) {
   std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
                                 "J_x",  "J_y",  "J_z"};
   for (const Statistic& s : statistics())
@@ -29,6 +30,8 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
       for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("{}_{}:{}", quantity, axis, name));
     c.push_back("work:" + name);
   }
+  for (const auto& name : free_names)
+    for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("w_{}:{}", axis, name));
   return c;
 }
 
@@ -37,6 +40,13 @@ template <int D>
 std::vector<std::string> body_names(const model::Model<D>& model) {
   std::vector<std::string> names;
   for (const auto& b : model.bodies) names.push_back(b.name);
+  return names;
+}
+
+template <int D>
+std::vector<std::string> free_names(const model::Model<D>& model) {
+  std::vector<std::string> names;
+  for (const auto& b : model.free_bodies) names.push_back(model.bodies[static_cast<std::size_t>(b.body)].name);
   return names;
 }
 
@@ -116,7 +126,8 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
       vtu_every_(spec.vtu_every),
       format_{.compress = spec.compress, .single_precision = spec.single_precision},
       history_(directory / "history.csv", history_columns(body_names(assembler.model()), pair_names<D>(contacts),
-                                                          support_names<D>(assembler.model()))) {
+                                                          support_names<D>(assembler.model()),
+                                                          free_names<D>(assembler.model()))) {
   if (resume_time) last_time_ = *resume_time;
   add_bare_surfaces<D>(assembler.model(), surface_facets_, surface_body_);
   if (spec.vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
@@ -161,6 +172,7 @@ void OutputWriter<D>::write(const model::State& state, const StepFigures& figure
     const Vec3 u = mean_displacement<D>(assembler_.model(), supports[s], state.u);
     row.insert(row.end(), {u.x(), u.y(), u.z(), state.support_work.at(s)});
   }
+  for (const model::RigidBodyState& b : state.rigid) row.insert(row.end(), {b.spin.x(), b.spin.y(), b.spin.z()});
   last_time_ = state.time;
   history_.write_row(row);
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);

@@ -23,11 +23,13 @@ namespace conserve::simulation {
 /// rigid body "NAME", model::Support) its reaction "R_x:NAME", …, the
 /// reaction's moment about the origin "M_x:NAME", …, the mean
 /// displacement of its nodes "u_x:NAME", … and the work it has done since
-/// t = 0 "work:NAME". A NaN value (e.g. min_active_gap with no active
-/// slave) is written as an empty field.
+/// t = 0 "work:NAME", then per free rigid body its angular velocity
+/// "w_x:NAME", …. A NaN value (e.g. min_active_gap with no active slave)
+/// is written as an empty field.
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {},
                                          const std::vector<std::string>& pair_names = {},
-                                         const std::vector<std::string>& support_names = {});
+                                         const std::vector<std::string>& support_names = {},
+                                         const std::vector<std::string>& free_names = {});
 
 template <int D>
 class OutputWriter {

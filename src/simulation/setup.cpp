@@ -74,26 +74,32 @@ mesh::Mesh body_mesh(const io::Scenario& scenario, std::size_t i, int dim) {
   return m;
 }
 
-/// Placeholder material of a rigid body given without one: its cells' rows
-/// are all masked by the prescribed dofs, so the Lamé constants never act
-/// on a free dof (and a rigid translation has no strain anyway); density 0
-/// makes the body massless, like a bare surface, so that it adds nothing
-/// to the energies and momenta.
-io::MaterialSpec rigid_placeholder() {
-  return {.model = "svk", .parameters = {{"young", 1.0}, {"poisson", 0.0}}, .density = 0.0};
+/// Placeholder material of a rigid body given without elastic constants:
+/// its cells' rows are all held (prescribed or moved by its free-body
+/// unknowns), so the Lamé constants never act on a free dof (and a rigid
+/// motion has no strain anyway). Without a density too (0), the body is
+/// massless, like a bare surface, and adds nothing to the energies and
+/// momenta.
+io::MaterialSpec rigid_placeholder(double density) {
+  return {.model = "svk", .parameters = {{"young", 1.0}, {"poisson", 0.0}}, .density = density};
 }
 
 /// Adds body `i` of the scenario to the model.
 template <int D>
 void add_body(const io::Scenario& scenario, std::size_t i, model::Model<D>& model) {
   const io::BodySpec& spec = scenario.bodies[i];
-  const io::MaterialSpec material = spec.rigid && !(spec.material.density > 0.0) ? rigid_placeholder() : spec.material;
+  const bool placeholder = spec.rigid && (!(spec.material.density > 0.0) || spec.material.parameters.empty());
+  const io::MaterialSpec material = placeholder ? rigid_placeholder(spec.material.density) : spec.material;
   auto law = at_key(scenario, i, "material", [&] { return material::make_law(material.model, material.parameters); });
   const mesh::Mesh mesh = body_mesh(scenario, i, D);
   const char* mesh_key = spec.mesh.generator.empty() ? "mesh.file" : "mesh.generator";
   if (mesh.num_cells() == 0 && !spec.rigid)
     throw body_error(scenario, i, mesh_key,
                      "the mesh has no cells; only a rigid body may be a bare surface (set rigid = true)");
+  if (mesh.num_cells() == 0 && spec.free)
+    throw body_error(scenario, i, mesh_key,
+                     "the mesh has no cells; a free rigid body needs them (its mass, centre and inertia come from "
+                     "them and its density)");
   at_key(scenario, i, mesh_key,
          [&] { model::add_body<D>(model, mesh, spec.name, std::move(law), material.density, spec.thickness); });
 }
@@ -215,9 +221,14 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
         model.prescribed.curve.push_back(curve_index(scenario, bc.curve));
       }
   }
-  for (std::size_t i = 0; i < scenario.bodies.size(); ++i)
-    if (scenario.bodies[i].rigid)
-      prescribe_rigid<D>(scenario, scenario.bodies[i], model.bodies[i], model, model.prescribed);
+  for (std::size_t i = 0; i < scenario.bodies.size(); ++i) {
+    const io::BodySpec& spec = scenario.bodies[i];
+    const model::Body& body = model.bodies[i];
+    if (spec.free)
+      model.free_bodies.push_back({.body = static_cast<int>(i), .first_node = body.first_node, .num_nodes = body.num_nodes});
+    else if (spec.rigid)
+      prescribe_rigid<D>(scenario, spec, body, model, model.prescribed);
+  }
 }
 
 template <int D>
@@ -383,9 +394,19 @@ Problem<D> setup(const io::Scenario& scenario) {
   p.initial = model::rest_state<D>(p.model);
   for (std::size_t i = 0; i < scenario.bodies.size(); ++i) {
     const io::BodySpec& spec = scenario.bodies[i];
-    if (spec.rigid) continue;  // fully prescribed: u and v come from apply_prescribed below
+    if (spec.rigid && !spec.free) continue;  // fully prescribed: u and v come from apply_prescribed below
     model::set_initial_motion<D>(p.model, static_cast<int>(i),
                                  {spec.initial_deformation, spec.velocity, spec.angular_velocity}, p.initial);
+  }
+  // A free body turns about its centre of mass, the centroid of its cells
+  // (time::FreeBodies takes its nodes' arms from the same point).
+  for (const model::FreeBody& b : p.model.free_bodies) {
+    const io::BodySpec& spec = scenario.bodies[static_cast<std::size_t>(b.body)];
+    model::RigidBodyState s;
+    s.center.head<D>() = model::body_centroid<D>(p.model, b.body, p.initial.u);
+    s.velocity.head<D>() = spec.velocity.head<D>();
+    s.spin = D == 3 ? spec.angular_velocity : Vec3(0.0, 0.0, spec.angular_velocity.z());
+    p.initial.rigid.push_back(s);
   }
   model::apply_prescribed<D>(p.model.prescribed, p.model.X, 0.0, p.initial.u, &p.initial.v);
   check_overlaps<D>(scenario, p.model, p.initial.u);

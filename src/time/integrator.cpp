@@ -17,10 +17,11 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
                           const solver::LinearSolverSettings& linear)
     : assembler_(assembler),
       newton_(newton),
-      mask_(assembler.mass(), assembler.model().prescribed.dofs),
+      mask_(assembler.mass(), assembler.model().held_dofs()),
       K_(assembler.pattern().make_matrix()),
       terms_(elastodynamic_terms(assembler, scheme)),
       contact_(contact && !contact->collisions().empty() ? contact : nullptr),
+      bodies_(assembler),
       max_passes_(max_passes),
       solver_(solver::make_linear_solver(linear, assembler.model().num_dofs())) {
   solver_->set_timings(&timings_);
@@ -53,6 +54,8 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   if (retry) u_np1 += (dt / interrupted_.dt) * interrupted_.correction;
   interrupted_.step = -1;
   model::apply_prescribed<D>(assembler_.model().prescribed, assembler_.model().X, t_np1, u_np1);
+  bodies_.begin(state, dt);
+  bodies_.predict(u_np1);
   stats_ = {};
   for (const auto& term : terms_) term->begin(state, dt);
   if (contact_) contact_->begin_step(state.step + 1, dt, state);
@@ -65,8 +68,11 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
       coupling = contact_->coupling(state.u, u_np1);
       coupling->start(u_np1);
     }
-    const bool plain = !coupling || coupling->plain();
+    // A system with free bodies' unknowns is no plain one: its appended
+    // rows change with the bodies' motion.
+    const bool plain = (!coupling || coupling->plain()) && bodies_.empty();
     StepProblem<D> problem(assembler_, mask_, terms_, state, dt, u_np1, K_, coupling.get());
+    problem.add_bodies(&bodies_);
     problem.set_timings(&timings_);
     // A solve that will end in a split need not converge: abandoned once
     // its iterate shows the impact (the fraction then comes from it).
@@ -135,6 +141,8 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   }
   check_orientation(u_np1, state.step + 1, t_np1);
   if (v_np1.size() == 0) v_np1 = (2.0 / dt) * (u_np1 - state.u) - state.v;  // (19)
+  std::vector<model::RigidBodyState> rigid;
+  bodies_.finish(rigid, v_np1);  // the free bodies' own velocities, rigid fields
   // The work of the prescribed motion: its forces over its dofs' step,
   // Δu·R, which (26) makes the step's change of K + W + Π ...
   const model::Model<D>& m = assembler_.model();
@@ -161,6 +169,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   state.released += stats_.contact_released;
   state.v = std::move(v_np1);
   state.u = std::move(u_np1);
+  state.rigid = std::move(rigid);
   state.time = t_np1;
   ++state.step;
   return total;

@@ -12,6 +12,7 @@
 #include "contact/method.hpp"
 #include "model/state.hpp"
 #include "solver/newton.hpp"
+#include "time/free_bodies.hpp"
 #include "time/predictor.hpp"
 #include "time/step_terms.hpp"
 
@@ -101,6 +102,7 @@ class Integrator {
   SparseMatrix K_;
   StepTerms<D> terms_;  ///< the step's residual is their sum
   contact::Method<D>* contact_;
+  FreeBodies<D> bodies_;  ///< the free rigid bodies' motions (time/free_bodies.hpp)
   int max_passes_;
   std::optional<RigidMotion<D>> rigid_;  ///< set: Predictor::rigid
   std::unique_ptr<solver::LinearSolver> solver_;

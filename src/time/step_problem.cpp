@@ -81,7 +81,7 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
     motion_ = free_motion.norm();
   }
   const int free = static_cast<int>(g_.size() - static_cast<Eigen::Index>(mask_.dofs().size()));
-  equations_ = coupled() ? coupling_->equations(free) : free;
+  equations_ = (coupled() ? coupling_->equations(free) : free) + (bodies_ ? bodies_->unknowns() : 0);
   if (coupled()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
     coupling_->residual(u_np1_, g_, magnitude_, r);
@@ -98,7 +98,17 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
   reaction_.setZero(g_.size());
   for (int d : mask_.dofs()) reaction_[d] = r[d];
   force_scale_ = std::max(start_scale_, reaction_.norm());
+  Eigen::VectorXd bodies;
+  if (bodies_) {
+    bodies_->residual(u_np1_, r, bodies);
+    floor_ = std::hypot(floor_, kRoundOff * bodies_->magnitude().norm());
+  }
   mask_.apply(r);
+  if (bodies_) {
+    const Eigen::Index n = r.size();
+    r.conservativeResize(n + bodies.size());
+    r.tail(bodies.size()) = bodies;
+  }
 }
 
 template <int D>
@@ -112,36 +122,51 @@ const SparseMatrix& StepProblem<D>::tangent() {
   // Prescribed rows get the inertia's mean diagonal: of the order of the
   // others, whatever the stiffness.
   const double diagonal = 2.0 / (dt_ * dt_) * assembler_.mass().diagonal().mean();
-  if (!coupled()) {
-    mask_.apply(K_, diagonal);
-    return K_;
+  SparseMatrix* system = &K_;
+  if (coupled()) {
+    solver::ScopedTimer timer(clock(&solver::Timings::elimination));
+    // K_reduced_'s pattern changes only when the coupling's does (an
+    // elimination's constraints' nodes, a penalty's pairs): then the mask
+    // is remade.
+    if (coupling_->tangent(u_np1_, K_, g_, K_reduced_))
+      reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
+    system = &K_reduced_;
   }
-  solver::ScopedTimer timer(clock(&solver::Timings::elimination));
-  // K_reduced_'s pattern changes only when the coupling's does (an
-  // elimination's constraints' nodes, a penalty's pairs): then the mask is
-  // remade.
-  if (coupling_->tangent(u_np1_, K_, g_, K_reduced_))
-    reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
-  reduced_mask_.apply(K_reduced_, diagonal);
-  return K_reduced_;
+  const SparseMatrix unmasked = bodies_ ? *system : SparseMatrix();  // the bodies read its held rows and columns
+  (coupled() ? reduced_mask_ : mask_).apply(*system, diagonal);
+  if (!bodies_) return *system;
+  bodies_->tangent(unmasked, *system, K_bodies_);
+  return K_bodies_;
 }
 
 template <int D>
 void StepProblem<D>::update(const Eigen::VectorXd& increment) {
   u_before_ = u_np1_;
+  // The free bodies move their nodes (what follows them, a slave, moves
+  // with those nodes' increments), then are placed exactly.
+  Eigen::VectorXd system;
+  if (bodies_) {
+    const Eigen::Index n = increment.size() - bodies_->unknowns();
+    system = increment.head(n);
+    bodies_->save();
+    bodies_->update(increment.tail(bodies_->unknowns()), system);
+  }
+  const Eigen::VectorXd& step = bodies_ ? system : increment;
   if (coupled()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
     coupling_->save();
-    coupling_->update(increment, u_np1_);
+    coupling_->update(step, u_np1_);
   } else {
-    u_np1_ += increment;
+    u_np1_ += step;
   }
+  if (bodies_) bodies_->place(u_np1_);
 }
 
 template <int D>
 bool StepProblem<D>::revert() {
   if (u_before_.size() != u_np1_.size()) return false;
   if (coupled() && !coupling_->restore()) return false;
+  if (bodies_) bodies_->restore();
   u_np1_ = u_before_;
   return true;
 }

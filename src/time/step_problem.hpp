@@ -16,6 +16,7 @@
 #include "model/state.hpp"
 #include "solver/newton.hpp"
 #include "solver/timings.hpp"
+#include "time/free_bodies.hpp"
 #include "time/step_terms.hpp"
 
 namespace conserve::time {
@@ -30,6 +31,9 @@ class StepProblem final : public solver::NewtonProblem {
   StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, StepTerms<D>& terms,
               const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K,
               contact::Coupling* coupling = nullptr);
+  /// The free rigid bodies' unknowns appended to the system (they must
+  /// have begun the step and outlive the problem; null: none).
+  void add_bodies(FreeBodies<D>* bodies) { bodies_ = bodies && !bodies->empty() ? bodies : nullptr; }
   /// With its own elastodynamic terms (time/step_terms.hpp), begun here.
   StepProblem(const assembly::Assembler<D>& assembler, const assembly::DirichletMask& mask, fem::StressScheme scheme,
               const model::State& start, double dt, Eigen::VectorXd& u_np1, SparseMatrix& K,
@@ -95,7 +99,9 @@ class StepProblem final : public solver::NewtonProblem {
   Eigen::VectorXd& u_np1_;
   SparseMatrix& K_;
   contact::Coupling* coupling_;
+  FreeBodies<D>* bodies_ = nullptr;
   SparseMatrix K_reduced_;  ///< the coupled system's tangent
+  SparseMatrix K_bodies_;   ///< the system's tangent with the free bodies' unknowns
   assembly::DirichletMask reduced_mask_;
   Eigen::VectorXd g_, du_, magnitude_, reaction_;
   Eigen::VectorXd u_before_;  ///< the iterate before the last update (revert)

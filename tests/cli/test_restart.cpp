@@ -105,6 +105,16 @@ TEST(Restart, LagrangeContactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_lagrange_discs", with_method(kGlancingDiscs, "lagrange"), 35, 30);
 }
 
+// A free rigid body's motion (centre, velocity, rotation, spin) comes back
+// from a checkpoint: the big disc of kGlancingDiscs, free and spinning,
+// hit by the small one.
+TEST(Restart, FreeRigidBodyHistoryIsBitIdentical) {
+  std::string scenario = kGlancingDiscs;
+  const std::string big = "name = \"big\"\n";
+  scenario.replace(scenario.find(big), big.size(), big + "rigid = true\nfree = true\nangular_velocity = 3.0\n");
+  expect_identical_after_restart("restart_free_body", scenario, 35, 30);
+}
+
 // With impacts located, a run restarted from the checkpoint of a step cut
 // short at an impact goes on off the grid of Δt exactly as the run that
 // wrote it.

@@ -77,6 +77,24 @@ TEST(ScenarioRigid, NoInitialDeformationOnARigidBody) {
                          "body[1].initial_deformation", "is not allowed on a rigid body"));
 }
 
+// A free rigid body: rigid, with a density (alone, or with the elastic
+// constants, which are not used), and no centre or curves.
+TEST(ScenarioRigid, FreeRigidBodyTakesItsDensityAlone) {
+  const auto s = parse_scenario(two_bodies("", "free = true\n[body.material]\ndensity = 7800\n"), case_file());
+  EXPECT_TRUE(s.bodies[1].free);
+  EXPECT_EQ(s.bodies[1].material.density, 7800.0);
+  EXPECT_FALSE(parse_scenario(two_bodies(), case_file()).bodies[1].free);
+}
+
+TEST(ScenarioRigid, FreeBodyRulesNameTheKey) {
+  EXPECT_TRUE(fails_with(two_bodies("", "free = true\n"), 12, "body[1].material", "a free rigid body needs a density"));
+  EXPECT_TRUE(fails_with(two_bodies("", "free = true\ncenter = [0, 0, 0]\n[body.material]\ndensity = 1\n"), 17,
+                         "body[1].center", "is not allowed on a free rigid body"));
+  auto deformable = two_bodies("", "free = true\n[body.material]\nyoung = 1e9\npoisson = 0.2\ndensity = 100\n");
+  deformable.replace(deformable.find("rigid = true"), 12, "rigid = false");
+  EXPECT_TRUE(fails_with(deformable, 16, "body[1].free", "is only allowed on a rigid body"));
+}
+
 // A rigid body turns about its centre, each rate scaled by a curve.
 TEST(ScenarioRigid, PrescribedMotionWithCurves) {
   const auto s = parse_scenario(

@@ -1,6 +1,7 @@
 #include "contact/elimination/persistent_velocity.hpp"
 
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -55,10 +56,16 @@ SparseMatrix node_mass(const SparseMatrix& M) {
 
 template <int D>
 PersistentVelocity<D>::PersistentVelocity(const model::Model<D>& model, const SparseMatrix& mass)
-    : model_(model), mass_(mass), lumped_(Eigen::VectorXd::Zero(mass.rows())), prescribed_(mass.rows(), 0) {
+    : model_(model),
+      mass_(mass),
+      lumped_(Eigen::VectorXd::Zero(mass.rows())),
+      prescribed_(mass.rows(), 0),
+      free_body_(static_cast<std::size_t>(model.num_nodes()), 0) {
   for (int k = 0; k < mass.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(mass, k); it; ++it) lumped_[it.row()] += it.value();
-  for (int d : model.prescribed.dofs) prescribed_[d] = 1;
+  for (int d : model.held_dofs()) prescribed_[d] = 1;
+  for (const model::FreeBody& b : model.free_bodies)
+    std::fill_n(free_body_.begin() + b.first_node, b.num_nodes, 1);
   node_mass_ = node_mass<D>(mass);
 }
 
@@ -121,6 +128,8 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   std::vector<Eigen::Triplet<double>> rows;
   int m = 0;
   for (const Constraint<D>& c : constraints) {
+    if (std::any_of(c.master.begin(), c.master.end(), [&](int m) { return free_body_[static_cast<std::size_t>(m)]; }))
+      continue;
     const ContactPair<D>& pair = pairs[c.pair];
     const FacetNodes<D> xm = facet_nodes<D>(pair.master, c.facet, x);
     auto add = [&](int row, const Vec<D>& dir, const Vec<D>& N) {
@@ -138,6 +147,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
       for (int i = 0; i < D; ++i) add(m++, Vec<D>::Unit(i), facet_shape<D>(c.xi));
     }
   }
+  if (m == 0) return out;  // every constraint on a free rigid body's facets
   const Eigen::Index ndof = v.size();
   SparseMatrix A(m, ndof);
   A.setFromTriplets(rows.begin(), rows.end());

@@ -49,7 +49,9 @@ class PersistentVelocity {
   PersistentVelocity(const model::Model<D>& model, const SparseMatrix& mass);
 
   /// Updates the end-of-step velocities `v` for the active constraints at
-  /// end positions `x` (see the file comment).
+  /// end positions `x` (see the file comment). Constraints on a free rigid
+  /// body's facets keep the mid-point velocity (19): the update holds the
+  /// body's nodes as supports.
   /// `impulses` (if given) receives per constraint the persistency
   /// impulse on its slave, Σ μ a_slave [N s] (zero if not applied), and
   /// the weights N_b with which its master's nodes took the opposite:
@@ -85,7 +87,8 @@ class PersistentVelocity {
   /// 1/D² of M's entries.
   SparseMatrix node_mass_;
   Eigen::VectorXd lumped_;      ///< per dof: the row sum of M (the lumped mass)
-  std::vector<char> prescribed_;  ///< per dof
+  std::vector<char> prescribed_;  ///< per dof: held (prescribed, or a free rigid body's)
+  std::vector<char> free_body_;   ///< per node: a free rigid body's
 };
 
 }  // namespace conserve::contact
