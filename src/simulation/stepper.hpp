@@ -7,7 +7,7 @@
 #include <string>
 
 #include "assembly/threads.hpp"
-#include "contact/elimination/method.hpp"
+#include "contact/elimination/held_method.hpp"
 #include "contact/method.hpp"
 #include "core/error.hpp"
 #include "io/scenario.hpp"
@@ -51,9 +51,9 @@ class Stepper {
   [[nodiscard]] contact::Method<D>* contact() { return contact_.get(); }
   /// The contact pairs (none without contact).
   [[nodiscard]] const std::vector<contact::ContactPair<D>>& pairs() const { return pairs_; }
-  /// The elimination's active set when the method is elimination, else null.
+  /// The active set when the method holds constraints (elimination, multipliers), else null.
   [[nodiscard]] contact::ActiveSet<D>* active_set() {
-    auto* e = dynamic_cast<contact::EliminationMethod<D>*>(contact_.get());
+    auto* e = dynamic_cast<contact::HeldMethod<D>*>(contact_.get());
     return e ? &e->active_set() : nullptr;
   }
   [[nodiscard]] time::Integrator<D>& integrator() { return *integrator_; }

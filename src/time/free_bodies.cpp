@@ -38,7 +38,9 @@ FreeBodies<D>::FreeBodies(const assembly::Assembler<D>& assembler)
   const SparseMatrix& M = assembler.mass();
   for (std::size_t b = 0; b < model.free_bodies.size(); ++b) {
     const model::FreeBody& fb = model.free_bodies[b];
-    Body body{.first_node = fb.first_node, .num_nodes = fb.num_nodes};
+    Body body;
+    body.first_node = fb.first_node;
+    body.num_nodes = fb.num_nodes;
     const Vec3 centre = lift<D>(model::body_centroid<D>(model, fb.body, Eigen::VectorXd::Zero(model.num_dofs())));
     for (int n = 0; n < fb.num_nodes; ++n) {
       body_of_node_[static_cast<std::size_t>(fb.first_node + n)] = static_cast<int>(b);

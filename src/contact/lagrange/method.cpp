@@ -186,18 +186,11 @@ template <int D>
 LagrangeMethod<D>::LagrangeMethod(const model::Model<D>& model, const SparseMatrix& mass,
                                   std::vector<ContactPair<D>> pairs, const ImpactLocation& location,
                                   bool persistent)
-    : EliminationMethod<D>(model, mass, std::move(pairs), location, persistent),
-      mean_mass_(mass.diagonal().mean()) {}
-
-template <int D>
-void LagrangeMethod<D>::begin_step(std::int64_t step, double dt, const model::State& start) {
-  dt_ = dt;
-  EliminationMethod<D>::begin_step(step, dt, start);
-}
+    : HeldMethod<D>(model, mass, std::move(pairs), location, persistent), mean_mass_(mass.diagonal().mean()) {}
 
 template <int D>
 std::unique_ptr<Coupling> LagrangeMethod<D>::coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {
-  return std::make_unique<LagrangeCoupling<D>>(this->make_elimination(u_n, u_np1), 2.0 / (dt_ * dt_) * mean_mass_);
+  return std::make_unique<LagrangeCoupling<D>>(this->make_elimination(u_n, u_np1), 2.0 / (this->step_length() * this->step_length()) * mean_mass_);
 }
 
 template class LagrangeMethod<2>;

@@ -1,7 +1,7 @@
 #pragma once
 /// Lagrange multipliers (`[[contact]] method = "lagrange"`): the very
-/// constraints elimination holds (contact/elimination/), with the same
-/// active set, imposed instead by one multiplier per constrained direction
+/// constraints elimination holds, held by the same pieces
+/// (contact/elimination/held_method.hpp), imposed instead by one multiplier per constrained direction
 /// as extra unknowns, so that the two methods solve the same discrete
 /// problem. For one solve, with the elimination's maps Δu = T q (trial)
 /// and r = Wᵀ g (test) at the iterate,
@@ -19,22 +19,20 @@
 /// solution Wᵀ g = 0 and c = 0, elimination's equations: the trajectories
 /// agree to the solvers' tolerance. The number of equations is the free
 /// unknowns plus one per frictionless and D per stick constraint.
-#include "contact/elimination/method.hpp"
+#include "contact/elimination/held_method.hpp"
 
 namespace conserve::contact {
 
 template <int D>
-class LagrangeMethod final : public EliminationMethod<D> {
+class LagrangeMethod final : public HeldMethod<D> {
  public:
   LagrangeMethod(const model::Model<D>& model, const SparseMatrix& mass, std::vector<ContactPair<D>> pairs,
                  const ImpactLocation& location, bool persistent);
   [[nodiscard]] std::string_view name() const override { return "lagrange"; }
-  void begin_step(std::int64_t step, double dt, const model::State& start) override;
   [[nodiscard]] std::unique_ptr<Coupling> coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) override;
 
  private:
   double mean_mass_ = 0.0;  ///< mean of the mass matrix's diagonal [kg]
-  double dt_ = 0.0;
 };
 
 }  // namespace conserve::contact

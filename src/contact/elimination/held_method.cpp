@@ -1,4 +1,4 @@
-#include "contact/elimination/method.hpp"
+#include "contact/elimination/held_method.hpp"
 
 #include <map>
 
@@ -52,7 +52,7 @@ Constraint<D> read_constraint(ByteReader& r, int num_nodes, int num_pairs) {
 }  // namespace
 
 template <int D>
-EliminationMethod<D>::EliminationMethod(const model::Model<D>& model, const SparseMatrix& mass,
+HeldMethod<D>::HeldMethod(const model::Model<D>& model, const SparseMatrix& mass,
                                         std::vector<ContactPair<D>> pairs, const ImpactLocation& location,
                                         bool persistent)
     : model_(model), active_(model, std::move(pairs)), restorer_(model, mass) {
@@ -61,20 +61,14 @@ EliminationMethod<D>::EliminationMethod(const model::Model<D>& model, const Spar
 }
 
 template <int D>
-void EliminationMethod<D>::begin_step(std::int64_t step, double dt, const model::State& start) {
+void HeldMethod<D>::begin_step(std::int64_t step, double dt, const model::State& start) {
   active_.begin_step(step, start.time, dt, start.v);
   end_time_ = start.time + dt;
+  dt_ = dt;
 }
 
 template <int D>
-std::unique_ptr<Coupling> EliminationMethod<D>::coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {
-  // The elimination works on the active set's constraints: the updates of
-  // the solve move their facets, ξ, n and τ there.
-  return std::make_unique<EliminationCoupling<D>>(make_elimination(u_n, u_np1));
-}
-
-template <int D>
-Verdict EliminationMethod<D>::settle(const model::State& start, double dt, const Eigen::VectorXd& u_np1,
+Verdict HeldMethod<D>::settle(const model::State& start, double dt, const Eigen::VectorXd& u_np1,
                                      const Eigen::VectorXd& g, Eigen::VectorXd& v_np1, StepContactStats& stats) {
   const SetChange change = active_.update(start.u, u_np1, g, stats);
   if (change == SetChange::split) return Verdict::split;
@@ -102,7 +96,7 @@ Verdict EliminationMethod<D>::settle(const model::State& start, double dt, const
 }
 
 template <int D>
-void EliminationMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
+void HeldMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
                                        Eigen::VectorXd& v_np1, StepContactStats& stats) {
   active_.end_step(end_time_);
   stats.master_penetration = active_.master_penetration(u_np1, u_n).depth;
@@ -130,7 +124,7 @@ void EliminationMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::
 }
 
 template <int D>
-std::string EliminationMethod<D>::save() const {
+std::string HeldMethod<D>::save() const {
   ByteWriter w;
   w.value(static_cast<std::uint64_t>(active_.constraints().size()));
   for (const auto& c : active_.constraints()) write_constraint<D>(w, c);
@@ -140,7 +134,7 @@ std::string EliminationMethod<D>::save() const {
 }
 
 template <int D>
-void EliminationMethod<D>::load(const std::string& bytes, const std::string& what) {
+void HeldMethod<D>::load(const std::string& bytes, const std::string& what) {
   forces_.clear();
   ByteReader r(bytes, what);
   const auto count = r.value<std::uint64_t>();
@@ -158,7 +152,7 @@ void EliminationMethod<D>::load(const std::string& bytes, const std::string& wha
 
 // After a restart, the loaded constraints' normal forces alone (until the next step).
 template <int D>
-std::vector<ContactForce<D>> EliminationMethod<D>::contact_forces() const {
+std::vector<ContactForce<D>> HeldMethod<D>::contact_forces() const {
   const auto& constraints = active_.constraints();
   if (forces_.size() == constraints.size()) return forces_;
   std::vector<ContactForce<D>> forces;
@@ -172,7 +166,7 @@ std::vector<ContactForce<D>> EliminationMethod<D>::contact_forces() const {
   return forces;
 }
 
-template class EliminationMethod<2>;
-template class EliminationMethod<3>;
+template class HeldMethod<2>;
+template class HeldMethod<3>;
 
 }  // namespace conserve::contact
