@@ -55,6 +55,8 @@ slow=(
   'LocatedImpacts\.SpreadingContactTakesAtMostOneAndAHalfThePaperSchemesSteps'     # LocatedImpacts.GlancingSpheres
   'Tutorial\.RunsAsWritten'                                                        # Examples.EveryExampleRunsShortened
   'AtRest\.StackHitFromAbove3d'                                                    # AtRest.BlockHitByAMovingBox3d
+  'Friction\.BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTime3d'               # ...2d
+  'Friction\.ObliqueImpactKeepsMomentaAndEnergyWithTheDissipation'                 # Friction.ReducedTangentOfSlipping...
 )
 skip=()
 if [ "${CONSERVE_SANITIZE_ALL:-0}" != 1 ]; then

@@ -2,6 +2,7 @@
 /// Contact pairs and active node-to-segment constraints.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "contact/broad_phase.hpp"
@@ -31,7 +32,13 @@ template <int D>
 struct ContactPair {
   ContactSurface slave;
   ContactSurface master;
+  /// The kind its slaves are activated with: a Coulomb pair's slaves
+  /// start sticking (frictionless if μ = 0) and slip when their force
+  /// leaves the cone (ActiveSet).
   Kind kind = Kind::frictionless;
+  /// Coulomb friction coefficient μ ≥ 0 of a `kind = "coulomb"` pair;
+  /// none for frictionless and stick pairs.
+  std::optional<double> friction;
   SearchSettings search;
   FacetTree<D> tree;              ///< over master facets, refitted (refit) before each search
   mutable FacetFrames<D> frames;  ///< of master facets at the tree's positions, filled as searched
@@ -97,6 +104,13 @@ struct Constraint {
   /// the master surface's border, through a face that is no master, can be
   /// any depth behind it, and no step is short enough to push it out.
   bool hold = false;
+  /// Coulomb friction (docs/theory.md, "Coulomb friction"): μ while the
+  /// slave slips (a frictionless constraint of a Coulomb pair: its force
+  /// has a friction part μ f_N against its slip,
+  /// zero_work::friction_direction), 0 otherwise; and the slip ε below which
+  /// its direction is regularized and the slave sticks instead [m].
+  double friction = 0.0;
+  double slip_scale = 0.0;
   /// The step the slave was activated in (its first step in contact).
   std::int64_t activated_step = 0;
   /// f_N = g_s·n_{n+½} at the last update of the active set [N], and at

@@ -80,6 +80,12 @@ struct StepContactStats {
   /// potential when it moves to another facet between steps; 0 for the
   /// others. total + Σ contact_released is conserved.
   double contact_released = 0.0;
+  /// Coulomb friction: the work the friction forces took out of the step
+  /// (≥ 0), and the slaves of Coulomb pairs sticking and slipping at its
+  /// end. E_{n+1} + dissipated = E_n.
+  double dissipated = 0.0;
+  int sticking = 0;
+  int slipping = 0;
   /// Unknowns of the step's last linear system (prescribed and eliminated
   /// ones left out, multipliers counted).
   int equations = 0;

@@ -100,6 +100,7 @@ enum class PenaltyForce { conserving, midpoint };
 enum class ContactKind {
   frictionless,  ///< paper §4.3.2: conserves E, L and J
   stick,         ///< paper §4.3.1: full stick, conserves E and L
+  coulomb,       ///< Coulomb friction μ: stick inside the cone, slip on it; L, J kept, E + dissipated kept
 };
 
 /// A node-to-segment contact pair: the slave surface's nodes against the
@@ -110,6 +111,7 @@ struct ContactSpec {
   std::string master_body;
   std::string master_group = "boundary";
   ContactKind kind = ContactKind::frictionless;
+  double friction = 0.0;  ///< Coulomb coefficient μ (kind coulomb)
   /// Far-side cut-off: a facet counts while the slave is less than
   /// depth_factor × (its longest edge) behind it.
   double depth_factor = 0.5;

@@ -50,11 +50,23 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   contact.slave_group = slave.group;
   contact.master_body = master.body;
   contact.master_group = master.group;
-  contact.kind = s.string("kind") == "stick" ? ContactKind::stick : ContactKind::frictionless;
+  const std::string kind = s.string("kind");
+  contact.kind = kind == "stick"     ? ContactKind::stick
+                 : kind == "coulomb" ? ContactKind::coulomb
+                                     : ContactKind::frictionless;
+  if (contact.kind == ContactKind::coulomb && !s.has("friction"))
+    s.fail("kind", "is \"coulomb\" without a friction coefficient", "friction = μ (≥ 0) with kind = \"coulomb\"");
+  if (contact.kind != ContactKind::coulomb && s.has("friction"))
+    s.fail("friction", fmt::format("is read with kind = \"coulomb\" only (kind is \"{}\")", kind),
+           "no friction key, or kind = \"coulomb\"");
+  contact.friction = s.number("friction");
   contact.depth_factor = s.number("depth_factor");
   contact.method = s.string("method");
   contact.penalty = s.number("penalty");
   contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
+  if (contact.kind == ContactKind::coulomb && contact.method != "elimination")
+    s.fail("kind", fmt::format("\"coulomb\" is not available with method = \"{}\" yet", contact.method),
+           "method = \"elimination\" with kind = \"coulomb\"");
   return contact;
 }
 

@@ -484,9 +484,18 @@ SectionSpec contact_section() {
               {.name = "kind",
                .type = KeyType::choice,
                .required = true,
-               .choices = {"frictionless", "stick"},
-               .doc = "`frictionless` (conserves energy, linear and angular momentum) or `stick` (full stick "
-                      "friction; conserves energy and linear momentum)"},
+               .choices = {"frictionless", "stick", "coulomb"},
+               .doc = "`frictionless` (conserves energy, linear and angular momentum), `stick` (full stick "
+                      "friction; conserves energy and linear momentum) or `coulomb` (Coulomb friction with "
+                      "coefficient `friction`: a slave sticks while its tangential force is inside μ × its "
+                      "normal force and slips against it otherwise; conserves linear momentum and energy + "
+                      "`dissipated` (history.csv), and angular momentum while no slave sticks; method "
+                      "`elimination`)"},
+              {.name = "friction",
+               .type = KeyType::number,
+               .default_value = "0",
+               .min = at_least(0),
+               .doc = "kind = \"coulomb\" (and required there): the Coulomb friction coefficient μ"},
               {.name = "depth_factor",
                .type = KeyType::number,
                .default_value = "0.5",

@@ -32,6 +32,9 @@ struct State {
   /// Energy contact let go of outside the steps' balance since t = 0 (a
   /// penalty's released springs) [J]: counted with E in the drift.
   double released = 0.0;
+  /// Energy Coulomb friction has dissipated since t = 0 [J]: counted with
+  /// E in the drift (E + dissipated is conserved).
+  double dissipated = 0.0;
   /// The free rigid bodies' motions (Model::free_bodies, in order).
   std::vector<RigidBodyState> rigid;
 };

@@ -33,8 +33,9 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// 15: the state's work of each support and released energy; the drifts'
 /// deviations instead of their ratios. 16: the integrator's state. 17:
 /// the contact's release and activation times (contact::ImpactLocation);
-/// the free rigid bodies' motions.
-constexpr std::uint32_t kVersion = 17;
+/// the free rigid bodies' motions. 18: the state's friction dissipation;
+/// the constraints' friction μ and slip regularization (Coulomb).
+constexpr std::uint32_t kVersion = 18;
 
 using Writer = ByteWriter;
 using Reader = ByteReader;
@@ -154,6 +155,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
   w.value(static_cast<std::uint64_t>(c.state.support_work.size()));
   w.doubles(c.state.support_work.data(), c.state.support_work.size());
   w.value(c.state.released);
+  w.value(c.state.dissipated);
   w.value(static_cast<std::uint64_t>(c.state.rigid.size()));
   for (const model::RigidBodyState& b : c.state.rigid) {
     w.doubles(b.center.data(), 3);
@@ -212,6 +214,7 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.state.support_work.resize(model.prescribed.supports.size());
   r.doubles(c.state.support_work.data(), c.state.support_work.size(), "the supports' work");
   c.state.released = r.value<double>();
+  c.state.dissipated = r.value<double>();
   if (r.value<std::uint64_t>() != model.free_bodies.size()) r.fail("the free bodies differ from the scenario's");
   c.state.rigid.resize(model.free_bodies.size());
   for (model::RigidBodyState& b : c.state.rigid) {

@@ -40,6 +40,13 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     pair.slave = surface("slave", spec.slave_body, spec.slave_group);
     pair.master = surface("master", spec.master_body, spec.master_group);
     pair.kind = spec.kind == io::ContactKind::stick ? contact::Kind::stick : contact::Kind::frictionless;
+    if (spec.kind == io::ContactKind::coulomb) {
+      // Slaves of a Coulomb pair are activated sticking (a trial the active
+      // set turns to slip when the force leaves the cone); with μ = 0 they
+      // slip from the start, as frictionless slaves.
+      pair.friction = spec.friction;
+      if (spec.friction > 0.0) pair.kind = contact::Kind::stick;
+    }
     pair.search.depth_factor = spec.depth_factor;
     const double h = longest_edge(pair.master, model);
     pair.search.search_distance = spec.depth_factor * h;

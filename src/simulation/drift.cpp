@@ -57,13 +57,15 @@ Conservation conservation(const io::Scenario& scenario) {
   for (const auto& contact : scenario.contacts)
     if (contact.kind == io::ContactKind::stick)
       for (int q = 4; q < kQuantities; ++q) breaks(c, q, "stick contact");
+    else if (contact.kind == io::ContactKind::coulomb && contact.friction > 0.0)
+      for (int q = 4; q < kQuantities; ++q) breaks(c, q, "Coulomb contact's sticking");
   return c;
 }
 
 Drifts DriftTracker::add(const time::Diagnostics& d, DriftState& s) const {
   s.energy_reference = std::max(s.energy_reference, d.kinetic + d.strain + d.contact);
   s.momentum_reference = std::max(s.momentum_reference, d.momentum_magnitude);
-  const double e = d.total + d.released, e0 = d0_.total + d0_.released;
+  const double e = d.total + d.released + d.dissipated, e0 = d0_.total + d0_.released + d0_.dissipated;
   s.deviation[0] = std::max(s.deviation[0], std::abs(e - e0));
   for (int i = 0; i < 3; ++i) {
     s.deviation[1 + i] = std::max(s.deviation[1 + i], std::abs(d.linear[i] - d0_.linear[i]));

@@ -65,7 +65,7 @@ Json figures(const RunSummary& s, int unknowns) {
                 {"momentum", s.reference[1]},
                 {"angular_momentum", s.reference[4]},
                 {"definition",
-                 "drift = the largest |X - X0| over the run / X_ref; E = total + released; E_ref = the largest K + W "
+                 "drift = the largest |X - X0| over the run / X_ref; E = total + released + dissipated; E_ref = the largest K + W "
                  "[J], L_ref = the largest sum over nodes of |(M V)_A| [kg m/s], J_ref = L_ref times the model's "
                  "bounding-box diagonal [kg m^2/s]"}}}};
 }

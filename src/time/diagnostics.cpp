@@ -16,6 +16,7 @@ Diagnostics diagnostics(const assembly::Assembler<D>& assembler, const model::St
   d.load_work = state.load_work;
   for (double w : state.support_work) d.support_work += w;
   d.released = state.released;
+  d.dissipated = state.dissipated;
   d.total = d.kinetic + d.strain + d.potential - d.load_work - d.support_work;
   for (int n = 0; n < model.num_nodes(); ++n) {
     Vec3 x = Vec3::Zero(), pn = Vec3::Zero();

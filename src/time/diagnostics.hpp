@@ -15,6 +15,7 @@ struct Diagnostics {
   double load_work = 0.0;       ///< work of the loads without a potential so far (State::load_work) [J]
   double support_work = 0.0;    ///< work of the prescribed motions so far (Σ State::support_work) [J]
   double released = 0.0;        ///< energy contact let go of so far (State::released) [J]
+  double dissipated = 0.0;      ///< energy friction dissipated so far (State::dissipated) [J]
   /// K + W + Π_ext − load_work − support_work (+ contact, once the caller
   /// sets it) [J]: what the scheme conserves.
   double total = 0.0;

@@ -167,6 +167,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   sum_supports(state, u_np1, work);
   for (const auto& term : terms_) state.load_work += term->external_work(u_np1);
   state.released += stats_.contact_released;
+  state.dissipated += stats_.dissipated;
   state.v = std::move(v_np1);
   state.u = std::move(u_np1);
   state.rigid = std::move(rigid);

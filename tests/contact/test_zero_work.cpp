@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
+#include <cmath>
 #include <cstdio>
+#include <Eigen/Geometry>
 
 #include "contact/elimination/zero_work.hpp"
 
@@ -68,6 +70,116 @@ TEST(ZeroWork, SlipRowsAreTheTangentsWhenTheDirectionIsTheNormal) {
   zero_work::Plane<3, double> mid = zero_work::project_on_plane<3, double>(p.x.col(0), p.x.rightCols<3>());
   EXPECT_LT((t.slip - mid.tangents).norm(), 1e-15);  // the paper's τ (56)
 }
+
+// Coulomb friction on a slipping slave (zero_work::friction_direction):
+// a general step of a slave 0.2 above a tilted, stretching facet.
+template <int D>
+struct Slipping {
+  zero_work::Nodes<D, double> x_n, x, dx;
+  Slipping() {
+    if constexpr (D == 3) {
+      x_n << 0.35, 0.0, 1.0, 0.1,  //
+          0.25, 0.0, 0.1, 1.0,     //
+          0.2, 0.0, 0.05, -0.1;
+    } else {
+      x_n << 0.35, 0.0, 1.0,  //
+          0.2, 0.0, 0.1;
+    }
+    dx.setZero();
+    dx.col(0).setConstant(2e-3);
+    dx(0, 0) = 5e-3;
+    dx.col(1).setConstant(-1e-3);
+    dx(D - 1, D) = 7e-4;
+    x = x_n + dx;
+  }
+};
+
+/// The mid-point rule's discrete rigid motion x_n → R x_n + c as
+/// displacements.
+template <int D>
+zero_work::Nodes<D, double> rigid_step(const zero_work::Nodes<D, double>& x_n, double angle) {
+  Eigen::Matrix<double, D, D> R = Eigen::Matrix<double, D, D>::Identity();
+  if constexpr (D == 3) {
+    R = Eigen::AngleAxisd(angle, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  } else {
+    R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  }
+  return ((R * x_n).colwise() + Eigen::Matrix<double, D, 1>::Constant(0.3)) - x_n;
+}
+
+template <int D>
+Eigen::Vector3d moment(const zero_work::Nodes<D, double>& y, const zero_work::Nodes<D, double>& f) {
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (int a = 0; a <= D; ++a) {
+    Eigen::Vector3d y3 = Eigen::Vector3d::Zero(), f3 = Eigen::Vector3d::Zero();
+    y3.head<D>() = y.col(a);
+    f3.head<D>() = f.col(a);
+    m += y3.cross(f3);
+  }
+  return m;
+}
+
+template <int D>
+void friction_keeps_momenta_and_dissipates() {
+  const Slipping<D> p;
+  const double eps = 1e-6;
+  double slip = 0.0;
+  const zero_work::Nodes<D, double> phi = zero_work::friction_direction<D, double>(p.x, p.dx, eps, slip);
+  const zero_work::Nodes<D, double> y = p.x - 0.5 * p.dx;
+  EXPECT_GT(slip, 1e-3);
+  EXPECT_LT(phi.rowwise().sum().norm(), 1e-15);  // no resultant: L
+  EXPECT_LT(moment<D>(y, phi).norm(), 1e-15);    // no moment about the mid-point positions: J
+  EXPECT_NEAR(phi.col(0).norm(), slip / std::sqrt(slip * slip + eps * eps), 1e-15);  // unit on the slave
+  const double work = phi.cwiseProduct(p.dx).sum();
+  EXPECT_NEAR(work, -slip * slip / std::sqrt(slip * slip + eps * eps), 1e-17);  // −|Δs|: dissipation
+  // A superposed rigid motion of the mid-point rule changes neither the slip nor the work.
+  const zero_work::Nodes<D, double> rigid = rigid_step<D>(p.x_n, 0.4);
+  double rotated = 0.0;
+  const zero_work::Nodes<D, double> phi_rigid =
+      zero_work::friction_direction<D, double>(p.x_n + rigid, rigid, eps, rotated);
+  EXPECT_LT(rotated, 1e-15);  // a rigid motion does not slip, although the slave is 0.2 off its facet
+  EXPECT_LT(std::abs(phi_rigid.cwiseProduct(rigid).sum()), 1e-15);
+  // Without the facet's rotation term the relative motion of a slave off
+  // its facet would count a rigid rotation as slip (negative control).
+  const zero_work::Nodes<D, double> y_rigid = p.x_n + 0.5 * rigid;
+  const zero_work::Plane<D, double> mid =
+      zero_work::project_on_plane<D, double>(y_rigid.col(0), y_rigid.template rightCols<D>());
+  Eigen::Matrix<double, D, 1> relative = rigid.col(0);
+  const Eigen::Matrix<double, D, 1> N = zero_work::shape<D, double>(mid.xi);
+  for (int b = 0; b < D; ++b) relative -= N(b) * rigid.col(b + 1);
+  EXPECT_GT((relative - mid.normal * mid.normal.dot(relative)).norm(), 1e-2);
+}
+
+TEST(ZeroWork, FrictionHasNoResultantNorMomentAndDissipatesItsSlip3d) { friction_keeps_momenta_and_dissipates<3>(); }
+TEST(ZeroWork, FrictionHasNoResultantNorMomentAndDissipatesItsSlip2d) { friction_keeps_momenta_and_dissipates<2>(); }
+
+// The test columns with friction: Wᵀg = 0 for g = λ ā + μ f_N φ, f_N = n·g_s.
+template <int D>
+void friction_test_columns_hold_the_cone() {
+  const Slipping<D> p;
+  const double mu = 0.4, eps = 1e-6, lambda = 3.0;
+  zero_work::Plane<D, double> mid;
+  const zero_work::Nodes<D, double> abar = zero_work::frictionless_direction<D, double>(p.x, p.dx, mid);
+  double slip = 0.0;
+  const zero_work::Nodes<D, double> phi = zero_work::friction_direction<D, double>(p.x, p.dx, eps, slip);
+  const double f_n = lambda * mid.normal.dot(abar.col(0));
+  const zero_work::Nodes<D, double> g = lambda * abar + mu * f_n * phi;
+  EXPECT_NEAR(mid.normal.dot(g.col(0)), f_n, 1e-14);  // friction has no normal part on the slave
+  const auto t = zero_work::frictionless_test<D, double>(p.x, p.dx, true, mu, eps);
+  for (int j = 0; j < D - 1; ++j) EXPECT_LT(std::abs(t.slip.col(j).dot(g.col(0))), 1e-14);
+  for (int b = 0; b < D; ++b)
+    for (int i = 0; i < D; ++i) EXPECT_LT(std::abs(g(i, b + 1) + t.master.col(b * D + i).dot(g.col(0))), 1e-14);
+  // The same force is not balanced by the frictionless columns (negative control).
+  const auto plain = zero_work::frictionless_test<D, double>(p.x, p.dx);
+  double off = 0.0;
+  for (int j = 0; j < D - 1; ++j) off = std::max(off, std::abs(plain.slip.col(j).dot(g.col(0))));
+  EXPECT_GT(off, 0.1);
+  // Its work over the step is the dissipation μ f_N |Δs| (ā does none).
+  EXPECT_NEAR(g.cwiseProduct(p.dx).sum(), -mu * f_n * slip * slip / std::sqrt(slip * slip + eps * eps), 1e-16);
+}
+
+TEST(ZeroWork, FrictionTestColumnsBalanceAForceOnTheCone3d) { friction_test_columns_hold_the_cone<3>(); }
+TEST(ZeroWork, FrictionTestColumnsBalanceAForceOnTheCone2d) { friction_test_columns_hold_the_cone<2>(); }
 
 }  // namespace
 }  // namespace conserve::contact

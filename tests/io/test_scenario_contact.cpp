@@ -242,20 +242,38 @@ TEST(ScenarioContact, RigidBodyCannotBeTheSlave) {
 TEST(ScenarioContact, KindIsRequiredAndChecked) {
   auto missing = contact("a", "plane");
   missing.replace(missing.find("kind = \"stick\"\n"), 15, "");
-  EXPECT_TRUE(fails_with(missing, 21, "contact[0].kind", "missing key (expected one of: frictionless, stick)"));
+  EXPECT_TRUE(fails_with(missing, 21, "contact[0].kind", "missing key (expected one of: frictionless, stick, coulomb)"));
   auto wrong = contact("a", "plane");
   wrong.replace(wrong.find("\"stick\""), 7, "\"slip\"");
-  EXPECT_TRUE(fails_with(wrong, 24, "contact[0].kind", "'slip' is not allowed (expected one of: frictionless, stick)"));
+  EXPECT_TRUE(fails_with(wrong, 24, "contact[0].kind", "'slip' is not allowed (expected one of: frictionless, stick, coulomb)"));
 }
 
 TEST(ScenarioContact, RangesAndUnknownKeys) {
   EXPECT_TRUE(fails_with(contact("a", "plane", "depth_factor = 0\n"), 25, "contact[0].depth_factor",
                          "0 is out of range (expected a finite number > 0)"));
-  EXPECT_TRUE(fails_with(contact("a", "plane", "friction = 0.3\n"), 25, "contact[0].friction",
-                         "unknown key 'friction' (expected one of: slave, master, kind, depth_factor, method, penalty, penalty_force)"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "mu = 0.3\n"), 25, "contact[0].mu",
+                         "unknown key 'mu' (expected one of: slave, master, kind, friction, depth_factor, method, penalty, "
+                         "penalty_force)"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "[active_set]\nmax_passes = 0\n"), 26, "active_set.max_passes",
                          "0 is out of range (expected an integer ≥ 1)"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "[active_set]\npasses = 2\n"), 26, "active_set.passes", "unknown key"));
+}
+
+TEST(ScenarioContact, CoulombNeedsItsFrictionAndOnlyItReadsIt) {
+  auto coulomb = [](const std::string& extra) {
+    auto text = contact("a", "plane", extra);
+    text.replace(text.find("\"stick\""), 7, "\"coulomb\"");
+    return text;
+  };
+  EXPECT_TRUE(fails_with(coulomb(""), 24, "contact[0].kind", "is \"coulomb\" without a friction coefficient"));
+  EXPECT_TRUE(fails_with(coulomb("friction = -0.1\n"), 25, "contact[0].friction", "-0.1 is out of range"));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "friction = 0.3\n"), 25, "contact[0].friction",
+                         "is read with kind = \"coulomb\" only (kind is \"stick\")"));
+  EXPECT_TRUE(fails_with(coulomb("friction = 0.3\nmethod = \"penalty\"\n"), 24, "contact[0].kind",
+                         "\"coulomb\" is not available with method = \"penalty\" yet"));
+  const auto s = parse_scenario(coulomb("friction = 0.3\n"), case_file());
+  EXPECT_EQ(s.contacts[0].kind, io::ContactKind::coulomb);
+  EXPECT_EQ(s.contacts[0].friction, 0.3);
 }
 
 TEST(ScenarioContact, SecondPairErrorsNameIndexOne) {

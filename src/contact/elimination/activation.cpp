@@ -30,7 +30,7 @@ Constraint<D> make_constraint(const ContactPair<D>& pr, int p, int s, const Matc
   Constraint<D> c;
   c.pair = p;
   c.slave = s;
-  c.kind = pr.kind;
+  c.kind = context.kind.value_or(pr.kind);
   c.facet = end.facet;
   for (int a = 0; a < D; ++a) c.master[a] = pr.master.facets(a, c.facet);
   c.xi = c.kind == Kind::stick ? start.xi : mid.xi;

@@ -5,6 +5,7 @@
 /// that starts its first step in contact behind its facet.
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 
 #include "contact/constraint.hpp"
 
@@ -30,6 +31,9 @@ struct ActivationContext {
   bool first = true;         ///< the slave holds no other constraint
   bool given_up = false;     ///< a push-out of it was given up (it is held where it starts)
   double facet_size = 0.0;   ///< its slave facets' longest edge [m] (push_target)
+  /// The kind it is activated with if not its pair's (a Coulomb pair's
+  /// slave that slips from the start, ActiveSet).
+  std::optional<Kind> kind;
 };
 
 /// The constraint slave node s of pair `pr` (index p) takes for the facet

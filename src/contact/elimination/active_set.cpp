@@ -16,7 +16,10 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
       locator_(model.num_nodes(), collisions_.size()),
       slot_(static_cast<std::size_t>(model.num_nodes()), -1),
       held_(static_cast<std::size_t>(model.num_nodes()), 0),
-      given_up_(static_cast<std::size_t>(model.num_nodes()), 0) {}
+      switched_(static_cast<std::size_t>(model.num_nodes()), 0),
+      given_up_(static_cast<std::size_t>(model.num_nodes()), 0) {
+  for (const ContactPair<D>& pr : collisions_.pairs()) coulomb_ = coulomb_ || (pr.friction && *pr.friction > 0.0);
+}
 
 template <int D>
 std::optional<Constraint<D>> ActiveSet<D>::activation(int p, std::size_t i, int s, const Match<D>& match,
@@ -36,20 +39,39 @@ std::optional<Constraint<D>> ActiveSet<D>::activation(int p, std::size_t i, int 
 template <int D>
 Constraint<D> ActiveSet<D>::make(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                  const Positions<D>& x_np1) const {
-  const ActivationContext context{step_, index_.count(s) == 0, given_up_[static_cast<std::size_t>(s)] != 0,
-                                  facet_size(p, s)};
-  return make_constraint(pair(p), p, s, end, x_n, x_np1, context);
+  ActivationContext context{step_, index_.count(s) == 0, given_up_[static_cast<std::size_t>(s)] != 0,
+                            facet_size(p, s)};
+  const ContactPair<D>& pr = pair(p);
+  if (!pr.friction || !(*pr.friction > 0.0)) return make_constraint(pr, p, s, end, x_n, x_np1, context);
+  // A Coulomb pair's slave: held after a release in this step (its force
+  // may be tensile), frictionless for the rest of it; moving along the
+  // facet at the step's start by more than its slip regularization over
+  // the step, slipping; else sticking (friction.hpp).
+  const bool held = locator_.released_in_step(s);
+  const bool slides = !held && slides_in(p, s, end, x_n, context.facet_size);
+  if (held || slides) context.kind = Kind::frictionless;
+  Constraint<D> c = make_constraint(pr, p, s, end, x_n, x_np1, context);
+  if (slides) c = to_slip(c, *pr.friction, context.facet_size);
+  return c;
 }
 
 template <int D>
 void ActiveSet<D>::begin_step(std::int64_t step, double time, double dt, const Eigen::VectorXd& v_n) {
   locator_.begin_step(time, dt, v_n, active_);
+  if (coulomb_) v_n_ = v_n, dt_ = dt;
   std::fill(held_.begin(), held_.end(), 0);
+  std::fill(switched_.begin(), switched_.end(), 0);
   std::fill(given_up_.begin(), given_up_.end(), 0);
   old_given_up_ = 0;
   step_ = step;
   double sum = 0.0;
   for (Constraint<D>& c : active_) {
+    // A Coulomb pair's slave held frictionless after a release in the last
+    // step slips with its friction from this one on.
+    const ContactPair<D>& pr = pair(c.pair);
+    if (pr.friction && *pr.friction > 0.0 && c.kind == Kind::frictionless && c.friction == 0.0 &&
+        index_.count(c.slave) == 1)
+      c = to_slip(c, *pr.friction, facet_size(c.pair, c.slave));
     c.start_force = c.normal_force;
     sum += c.normal_force;
     // A slave held behind its facet (the second constraint of a slave on
@@ -94,6 +116,7 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
   const SetChange activated = activate_penetrating(x_n, x_np1, stats);
   if (activated == SetChange::split) return activated;
   if (released || activated == SetChange::changed) return SetChange::changed;
+  if (switch_friction(x_n, x_np1)) return SetChange::changed;
   // A slave that held (48) and ends the step behind its facet is pushed
   // out in this step instead, as one left behind at its start is
   // (begin_step): the step is solved again with it held at γ = 0.
@@ -125,6 +148,42 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
         return c.hold && c.activated_step == step_ && given_up_[c.slave] != 1;
       }));
   return SetChange::none;
+}
+
+template <int D>
+bool ActiveSet<D>::slides_in(int p, int s, const Match<D>& end, const Positions<D>& x_n, double facet_size) const {
+  if (v_n_.size() == 0) return false;
+  const ContactPair<D>& pr = pair(p);
+  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pr.master, end.facet, x_n));
+  const Vec<D> N = facet_shape<D>(start.xi);
+  Vec<D> relative = v_n_.template segment<D>(s * D);
+  for (int b = 0; b < D; ++b) relative -= N(b) * v_n_.template segment<D>(pr.master.facets(b, end.facet) * D);
+  relative -= start.normal * start.normal.dot(relative);
+  return relative.norm() * dt_ > kSlipScale * facet_size;
+}
+
+template <int D>
+bool ActiveSet<D>::switch_friction(const Positions<D>& x_n, const Positions<D>& x_np1) {
+  constexpr char kToSlip = 1, kToStick = 2;
+  bool changed = false;
+  for (Constraint<D>& c : active_) {
+    const ContactPair<D>& pr = pair(c.pair);
+    if (!pr.friction || !(*pr.friction > 0.0) || index_.count(c.slave) != 1 || held_[c.slave]) continue;
+    char& switched = switched_[static_cast<std::size_t>(c.slave)];
+    if (switched & kToSlip) continue;
+    if (c.kind == Kind::stick) {
+      if (!leaves_cone(c, c.force, *pr.friction)) continue;
+      c = to_slip(c, *pr.friction, facet_size(c.pair, c.slave));
+      switched |= kToSlip;
+      changed = true;
+    } else if (!(switched & kToStick) && c.friction > 0.0 && !c.push &&
+               friction_step(c, x_n, x_np1).slip < c.slip_scale) {
+      c = to_stick(c, pr, x_n);
+      switched |= kToStick;
+      changed = true;
+    }
+  }
+  return changed;
 }
 
 template <int D>

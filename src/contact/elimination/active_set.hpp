@@ -15,7 +15,8 @@
 /// The set coordinates its pieces, each with its own tests: which slaves
 /// hold what (slave_index.hpp), the constraint a slave is activated with,
 /// creases and push-outs (activation.hpp), releases and their timing
-/// (release.hpp), and impacts located in time (impact_locator.hpp).
+/// (release.hpp), Coulomb friction's stick and slip (friction.hpp), and
+/// impacts located in time (impact_locator.hpp).
 #include <limits>
 #include <optional>
 #include <vector>
@@ -24,6 +25,7 @@
 #include "contact/constraint.hpp"
 #include "contact/elimination/activation.hpp"
 #include "contact/elimination/elimination.hpp"
+#include "contact/elimination/friction.hpp"
 #include "contact/elimination/impact_locator.hpp"
 #include "contact/elimination/release.hpp"
 #include "contact/elimination/slave_index.hpp"
@@ -160,6 +162,17 @@ class ActiveSet {
  private:
   bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats);
   SetChange activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats);
+  /// Coulomb pairs' slaves (one constraint, not held after a release):
+  /// a sticking one whose force leaves the cone slips, a slipping one
+  /// whose slip stays below its regularization sticks (friction.hpp); in
+  /// one step a slave goes from slip to stick at most once, and not after
+  /// it went from stick to slip. True if any changed.
+  bool switch_friction(const Positions<D>& x_n, const Positions<D>& x_np1);
+  /// Whether slave s of Coulomb pair p, found behind facet `end`, moved
+  /// along that facet at the step's start by more than its slip
+  /// regularization (kSlipScale × facet_size) over the step: it is
+  /// activated slipping, not sticking.
+  [[nodiscard]] bool slides_in(int p, int s, const Match<D>& end, const Positions<D>& x_n, double facet_size) const;
   /// Where the step should end for constraint c (just made, with its end
   /// match `end`) to arrive at half its gap tolerance; 1 if it starts within it.
   [[nodiscard]] double split_at(const Constraint<D>& c, const Match<D>& end, const Positions<D>& x_n) const {
@@ -190,6 +203,8 @@ class ActiveSet {
   ImpactLocator<D> locator_;    ///< gap tolerances, splits, and the events they follow
   std::vector<int> slot_;       ///< per node: scratch of normal_forces(), −1
   std::vector<char> held_;      ///< per node: re-activated after a release in this step; not released again
+  /// Per node, its friction switches in this step: 1 to slip, 2 to stick (bits).
+  std::vector<char> switched_;
   /// Per node: a push-out of it was given up, 1: before this step (an
   /// active constraint of it holds at the step's start, Constraint::hold),
   /// 2: in it (hold_pushes). Re-activated in the step, it is held, not
@@ -201,6 +216,9 @@ class ActiveSet {
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step
   bool allow_splits_ = true;
+  bool coulomb_ = false;   ///< a pair has Coulomb friction μ > 0
+  Eigen::VectorXd v_n_;    ///< with coulomb_: velocities at the step's start
+  double dt_ = 0.0;        ///< with coulomb_: the step's length
 };
 
 }  // namespace conserve::contact

@@ -166,7 +166,7 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
   const Projection<D> p = project<D>(in.x.col(0), xm);
   l.trial.master = shape_block<D>(p.xi);
   l.trial.slip = p.tangents;
-  const auto t = zero_work::frictionless_test<D, double>(in.x, in.dx, !k.push);
+  const auto t = zero_work::frictionless_test<D, double>(in.x, in.dx, !k.push, k.friction, k.slip_scale);
   l.test.master = t.master;
   l.test.slip = t.slip;
   l.cosine = t.cosine;
@@ -377,7 +377,8 @@ void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) 
     return;
   }
   constexpr int N = D * (D + 1);  // inputs: the slave, then the facet's nodes
-  const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx), !k.push);
+  const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx), !k.push, k.friction,
+                                                        k.slip_scale);
   const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
   Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();  // outputs: the slips (row D−1 zero), the facet
   for (int j = 0; j < D - 1; ++j) G.row(j) = t.slip.col(j).dot(gs).derivatives().transpose();

@@ -22,6 +22,8 @@ void write_constraint(ByteWriter& w, const Constraint<D>& c) {
   w.value(c.normal_force);
   w.value(c.start_force);
   w.value(static_cast<std::int32_t>(c.hold));
+  w.value(c.friction);
+  w.value(c.slip_scale);
 }
 
 template <int D>
@@ -40,10 +42,13 @@ Constraint<D> read_constraint(ByteReader& r, int num_nodes, int num_pairs) {
   c.normal_force = r.template value<double>();
   c.start_force = r.template value<double>();
   const auto hold = r.template value<std::int32_t>();
+  c.friction = r.template value<double>();
+  c.slip_scale = r.template value<double>();
   bool nodes_ok = c.slave >= 0 && c.slave < num_nodes && c.pair >= 0 && c.pair < num_pairs;
   for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
-  if (!nodes_ok || (kind != 0 && kind != 1) || (hold != 0 && hold != 1))
-    r.fail("a contact constraint is malformed (a node out of range, or an unknown kind or flag)");
+  if (!nodes_ok || (kind != 0 && kind != 1) || (hold != 0 && hold != 1) || !(c.friction >= 0.0) ||
+      !(c.slip_scale >= 0.0) || (c.friction > 0.0 && !(c.slip_scale > 0.0)))
+    r.fail("a contact constraint is malformed (a node out of range, or an unknown kind, flag or friction)");
   c.kind = static_cast<Kind>(kind);
   c.hold = hold == 1;
   return c;
@@ -74,13 +79,14 @@ Verdict HeldMethod<D>::settle(const model::State& start, double dt, const Eigen:
   if (change == SetChange::split) return Verdict::split;
   if (change == SetChange::changed) return Verdict::changed;
   stats.push_work = 0.0;
+  friction(start.u, u_np1, stats);
   if (stats.pushes == 0) return Verdict::accept;
   // The step's energy error E_{n+1} − E_n is Δu·g over the free dofs (the
   // zero-work forces contribute nothing, Newton's leftover its round-off):
-  // here the push-outs' work.
+  // here the push-outs' work, and the friction's (−dissipated).
   Eigen::VectorXd g_free = g;
   for (int d : model_.prescribed.dofs) g_free[d] = 0.0;
-  const double push_work = (u_np1 - start.u).dot(g_free);
+  const double push_work = (u_np1 - start.u).dot(g_free) + stats.dissipated;
   const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
   v_np1 = (2.0 / dt) * (u_np1 - start.u) - start.v;  // (19)
   if (restorer_.restore_energy(x, push_work, v_np1)) {
@@ -93,6 +99,23 @@ Verdict HeldMethod<D>::settle(const model::State& start, double dt, const Eigen:
   active_.hold_pushes(start.u);  // counted in stats.pushes_given_up by the next update
   v_np1.resize(0);
   return Verdict::changed;
+}
+
+template <int D>
+void HeldMethod<D>::friction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, StepContactStats& stats) const {
+  stats.dissipated = 0.0;
+  stats.sticking = stats.slipping = 0;
+  const Positions<D> x_n = model_.X + u_n.reshaped(D, model_.X.cols());
+  const Positions<D> x_np1 = model_.X + u_np1.reshaped(D, model_.X.cols());
+  for (const Constraint<D>& c : active_.constraints()) {
+    if (!active_.pairs()[static_cast<std::size_t>(c.pair)].friction) continue;
+    if (c.kind == Kind::stick) {
+      ++stats.sticking;
+      continue;
+    }
+    ++stats.slipping;
+    if (c.friction > 0.0) stats.dissipated += friction_step<D>(c, x_n, x_np1).dissipated;
+  }
 }
 
 template <int D>

@@ -57,6 +57,10 @@ class HeldMethod : public Method<D> {
   [[nodiscard]] double step_length() const { return dt_; }
 
  private:
+  /// Coulomb friction of the accepted solve u_n → u_np1: its dissipation
+  /// and the sticking and slipping slaves (StepContactStats).
+  void friction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, StepContactStats& stats) const;
+
   const model::Model<D>& model_;
   ActiveSet<D> active_;
   /// The reduced tangent's pattern, kept across passes and steps while the

@@ -27,6 +27,8 @@
 /// (unsupported/Eigen/AutoDiff).
 #include <Eigen/Dense>
 #include <array>
+#include <cmath>
+#include <type_traits>
 
 #include "contact/facet.hpp"
 
@@ -63,6 +65,16 @@ S correction_weight(const S& value2, const S& noise) {
   if (!(noise > 0.0)) return S(0.0);
   const S t2 = value2 / (noise * noise);
   return t2 / (S(1.0) + t2);
+}
+
+/// The value of a scalar (an automatic-differentiation one's without its
+/// derivatives).
+template <class S>
+double value_of(const S& s) {
+  if constexpr (std::is_arithmetic_v<S>)
+    return s;
+  else
+    return s.value();
 }
 
 /// Unnormalised outward normal: τ_ξ × τ_η (3D) or (τ_y, −τ_x) (2D).
@@ -161,6 +173,46 @@ Nodes<D, S> frictionless_direction(const Nodes<D, S>& x, const Nodes<D, S>& dx, 
   return a - (weight * work / ww) * w;
 }
 
+/// Coulomb friction on a slipping slave (docs/theory.md, "Coulomb
+/// friction"). The discrete slip of the step that ends at x with
+/// displacements dx, at the mid-point configuration y = x − dx/2,
+///   Δs = B Δx = P [Δx_s − Σ_b N_b Δx_b + γ ∇(n·Δx)],
+/// with P = 1 − n nᵀ, N_b at the slave's mid-point projection ξ_{n+½}, γ
+/// its mid-point gap and ∇(n·Δx) the in-plane gradient of the facet nodes'
+/// normal displacements, vanishes for every rigid motion about y (Δx =
+/// Ω y + c, Ω skew: the mid-point rule's discrete rigid motions), so it is
+/// objective. The friction force on the constraint's nodes is μ f_N φ with
+///   φ = −Bᵀ t,  t = Δs / √(|Δs|² + ε²):
+/// φ_s = −t, φ_b = N_b t − γ c_b n (c = M⁻¹ τᵀ t on nodes 1…D−1, c_0 = −Σ c,
+/// M = τᵀτ). Σ φ = 0 and Σ y × φ = 0 (B annihilates rigid motions), so L
+/// and J are kept, and φ·Δx = −|Δs|²/√(|Δs|² + ε²) ≤ 0: its work is the
+/// step's dissipation, with the sign of f_N. ε regularizes the direction
+/// at zero slip (the slave then sticks, ActiveSet). `slip` gets |Δs|.
+template <int D, class S>
+Nodes<D, S> friction_direction(const Nodes<D, S>& x, const Nodes<D, S>& dx, double slip_scale, double& slip) {
+  const Nodes<D, S> y = x - S(0.5) * dx;
+  const Plane<D, S> mid = project_on_plane<D, S>(y.col(0), y.template rightCols<D>());
+  const V<D, S> N = shape<D, S>(mid.xi);
+  const V<D, S>& n = mid.normal;
+  V<D, S> relative = dx.col(0);
+  for (int b = 0; b < D; ++b) relative -= N(b) * dx.col(b + 1);
+  Eigen::Matrix<S, D - 1, 1> h;  // normal displacements of facet nodes 1…D−1 relative to node 0
+  for (int k = 1; k < D; ++k) h(k - 1) = n.dot(dx.col(k + 1) - dx.col(1));
+  const Eigen::Matrix<S, D - 1, D - 1> metric_inverse = (mid.tangents.transpose() * mid.tangents).inverse();
+  const V<D, S> gradient = mid.tangents * (metric_inverse * h);
+  const V<D, S> ds = relative - n * n.dot(relative) + mid.gap * gradient;
+  slip = std::sqrt(value_of(ds.squaredNorm()));
+  const V<D, S> t = ds / sqrt(ds.squaredNorm() + S(slip_scale * slip_scale));
+  const Eigen::Matrix<S, D - 1, 1> c = metric_inverse * (mid.tangents.transpose() * t);
+  Nodes<D, S> phi;
+  phi.col(0) = -t;
+  for (int b = 0; b < D; ++b) {
+    const S cb = b == 0 ? S(-c.sum()) : S(c(b - 1));
+    phi.col(b + 1) = N(b) * t - (mid.gap * cb) * n;
+  }
+  return phi;
+}
+
 /// Slave parts of a frictionless constraint's test columns (the reduced
 /// residual is r = Wᵀ g): for master dof (b, i) of the mid-point facet,
 /// column b·D + i of `master`; for slip j, column j of `slip`. Chosen so
@@ -175,8 +227,15 @@ struct TestColumns {
   S cosine;
 };
 
+/// With friction μ > 0 (a slipping slave of a Coulomb pair) the columns
+/// are those of the same equations on g − μ f_N φ (friction_direction,
+/// f_N = n·g_s, n = n_{n+½}): each column w becomes w − μ (φ_s·w + φ_w) n,
+/// φ_w the entry of φ at the column's own dof (0 for a slip). Wᵀg = 0 then
+/// holds exactly when g = λ ā + μ f_N φ: the zero-work force and a
+/// friction force of magnitude μ f_N against the slip.
 template <int D, class S>
-TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx, bool zero_work = true) {
+TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx, bool zero_work = true,
+                                    double friction = 0.0, double slip_scale = 0.0) {
   Plane<D, S> mid;
   const Nodes<D, S> abar = frictionless_direction<D, S>(x, dx, mid, zero_work);
   const V<D, S> as = abar.col(0);
@@ -203,6 +262,20 @@ TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx,
       Eigen::Matrix<S, D, D>::Identity() + K + (K * K) / (S(1.0) + mid.normal.dot(ahat));
   t.slip = R * mid.tangents;
   t.cosine = mid.normal.dot(ahat);
+  if (friction > 0.0) {
+    double slip = 0.0;
+    const Nodes<D, S> phi = friction_direction<D, S>(x, dx, slip_scale, slip);
+    const S mu(friction);
+    for (int b = 0; b < D; ++b)
+      for (int i = 0; i < D; ++i) {
+        auto w = t.master.col(b * D + i);
+        w -= (mu * (phi.col(0).dot(w) + phi(i, b + 1))) * mid.normal;
+      }
+    for (int j = 0; j < D - 1; ++j) {
+      auto w = t.slip.col(j);
+      w -= (mu * phi.col(0).dot(w)) * mid.normal;
+    }
+  }
   return t;
 }
 
