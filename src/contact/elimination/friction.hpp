@@ -19,6 +19,13 @@ inline constexpr double kConeTolerance = 1e-6;
 /// a slave that would stop within a step comes to |Δs| of order ε with a
 /// force inside the cone, and sticks.
 inline constexpr double kSlipScale = 1e-6;
+/// A slipping slave sticks when its slip over a step is below this
+/// fraction of ε, its friction then below a tenth of μ f_N: well inside
+/// the cone. Between that and ε the regularized force holds it, creeping
+/// by less than ε a step; a slave whose stick force would leave the cone
+/// (a corner of a block on an incline, where the force concentrates)
+/// stays there instead of switching back and forth.
+inline constexpr double kStickSlip = 0.1;
 
 /// Whether sticking constraint c, whose slave's force over the step is
 /// `force` (g_s) with normal part f_N = c.normal_force along c.normal,
