@@ -39,8 +39,11 @@ std::optional<Constraint<D>> ActiveSet<D>::activation(int p, std::size_t i, int 
 template <int D>
 Constraint<D> ActiveSet<D>::make(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                  const Positions<D>& x_np1) const {
-  ActivationContext context{step_, index_.count(s) == 0, given_up_[static_cast<std::size_t>(s)] != 0,
-                            facet_size(p, s)};
+  ActivationContext context;
+  context.step = step_;
+  context.first = index_.count(s) == 0;
+  context.given_up = given_up_[static_cast<std::size_t>(s)] != 0;
+  context.facet_size = facet_size(p, s);
   const ContactPair<D>& pr = pair(p);
   if (!pr.friction || !(*pr.friction > 0.0)) return make_constraint(pr, p, s, end, x_n, x_np1, context);
   // A Coulomb pair's slave: held after a release in this step (its force
