@@ -102,6 +102,9 @@ void print_summary(const RunSummary& s) {
         s.statistic("activations"), s.statistic("releases"), s.statistic("held"), s.statistic("max_activation_gap"),
         s.statistic("min_active_gap"), s.statistic("max_active_gap"), s.statistic("max_penetration"),
         s.statistic("slave_penetration"), s.statistic("master_penetration"));
+  if (s.statistic("dissipated") > 0)
+    fmt::print("friction: {:.6g} J dissipated (history.csv's dissipated; total + dissipated is what is conserved)\n",
+               s.statistic("dissipated"));
   if (s.steps >= 20 && s.statistic("impact_splits") > 0.5 * static_cast<double>(s.steps))
     fmt::print(
         "contact: {} attempts of {} steps were cut short to locate impacts (an attempt given up and a shorter step "
