@@ -58,6 +58,7 @@ slow=(
   'Friction\.BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTime3d'               # ...2d
   'Friction\.ObliqueImpactKeepsMomentaAndEnergyWithTheDissipation'                 # Friction.ReducedTangentOfSlipping...
   'Friction\.DiscThrownWithoutSpinSkidsThenRollsAtTwoThirdsOfItsSpeed2d'          # Friction.BlockSliding...2d
+  'Friction\.BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByMultipliers2d'  # ...AndTime2d
 )
 skip=()
 if [ "${CONSERVE_SANITIZE_ALL:-0}" != 1 ]; then

@@ -140,6 +140,7 @@ struct ContactForce {
   double normal = 0.0;
   Vec<D> direction = Vec<D>::Zero();
   int pair = -1;                  ///< the contact pair (index of [[contact]])
+  bool sticks = false;            ///< held where it is on its facet (stick, or Coulomb inside its cone); else slips
   Vec<D> force = Vec<D>::Zero();  ///< the mean force on the slave over the step [N]
   Vec3 moment = Vec3::Zero();     ///< its moment about the origin, at the slave's mid-point position [N m]
   double work = 0.0;              ///< its work on the slave over the step [J]
@@ -185,6 +186,14 @@ class Method {
   /// method may change: persistent contact): end-of-step figures in stats.
   virtual void finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, Eigen::VectorXd& v_np1,
                            StepContactStats& stats) = 0;
+  /// After a solve of the step from u_n that did not converge: whether the
+  /// method changed its set so that the step is worth solving again at the
+  /// same Δt, from its prediction (a Coulomb slave whose slip the solve
+  /// could not settle sticks). False by default.
+  virtual bool recover(const Eigen::VectorXd& u_n) {
+    (void)u_n;
+    return false;
+  }
 
   /// The longest next step the method asks for after step `step` (of
   /// length `last`, after one of `previous`; `full` the scenario's).

@@ -64,9 +64,9 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   contact.method = s.string("method");
   contact.penalty = s.number("penalty");
   contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
-  if (contact.kind == ContactKind::coulomb && contact.method != "elimination")
-    s.fail("kind", fmt::format("\"coulomb\" is not available with method = \"{}\" yet", contact.method),
-           "method = \"elimination\" with kind = \"coulomb\"");
+  if (contact.kind == ContactKind::coulomb && contact.method == "penalty")
+    s.fail("kind", "\"coulomb\" is not available with method = \"penalty\" yet",
+           "method = \"elimination\" or \"lagrange\" with kind = \"coulomb\"");
   return contact;
 }
 

@@ -490,7 +490,7 @@ SectionSpec contact_section() {
                       "coefficient `friction`: a slave sticks while its tangential force is inside μ × its "
                       "normal force and slips against it otherwise; conserves linear momentum and energy + "
                       "`dissipated` (history.csv), and angular momentum while no slave sticks; method "
-                      "`elimination`)"},
+                      "`elimination` or `lagrange`)"},
               {.name = "friction",
                .type = KeyType::number,
                .default_value = "0",

@@ -259,22 +259,35 @@ void OutputWriter<D>::add_contact_fields(const model::State& state, io::VtuGrid&
   // Normal contact force f_N on active slaves [N] and its pressure [Pa];
   // NaN elsewhere, so that ParaView shows the active set by colour. A
   // slave holding two constraints shows the magnitude of f₁n₁ + f₂n₂,
-  // signed as their sum. Status: 1 sliding (frictionless), 2 stuck.
+  // signed as their sum. Status: 1 slipping (frictionless, or Coulomb on
+  // its cone), 2 sticking. The tangential traction [Pa]: the part of the
+  // slave's contact force off its normals, per area (zero where open).
   io::VtuField force{"contact_normal_force", 1, std::vector<double>(n, nan)},
-      pressure{"contact_pressure", 1, std::vector<double>(n, nan)};
-  std::map<int, std::pair<Vec<D>, double>> total;  // per slave: Σ f n, Σ f
+      pressure{"contact_pressure", 1, std::vector<double>(n, nan)},
+      traction{"contact_tangential_traction", 3, std::vector<double>(3 * static_cast<std::size_t>(n), 0.0)};
+  struct Sum {
+    Vec<D> normal = Vec<D>::Zero(), whole = Vec<D>::Zero();
+    double signed_normal = 0.0;
+  };
+  std::map<int, Sum> total;  // per slave
   for (const auto& c : contacts_->contact_forces()) {
-    auto& [vector, sum] = total.try_emplace(c.slave, Vec<D>::Zero(), 0.0).first->second;
-    vector += c.normal * c.direction;
-    sum += c.normal;
-    status.values[c.slave] = pairs[c.pair].kind == contact::Kind::stick ? 2.0 : 1.0;
+    Sum& sum = total[c.slave];
+    sum.normal += c.normal * c.direction;
+    sum.whole += c.force;
+    sum.signed_normal += c.normal;
+    status.values[c.slave] = c.sticks ? 2.0 : 1.0;
   }
   for (const auto& [slave, t] : total) {
-    force.values[slave] = std::copysign(t.first.norm(), t.second);
-    if (area[slave] > 0.0) pressure.values[slave] = force.values[slave] / area[slave];
+    force.values[slave] = std::copysign(t.normal.norm(), t.signed_normal);
+    if (!(area[slave] > 0.0)) continue;
+    pressure.values[slave] = force.values[slave] / area[slave];
+    const Vec<D> n = t.normal.norm() > 0.0 ? Vec<D>(t.normal.normalized()) : Vec<D>::Zero();
+    const Vec<D> tangential = (t.whole - n * n.dot(t.whole)) / area[slave];
+    for (int i = 0; i < D; ++i) traction.values[3 * static_cast<std::size_t>(slave) + i] = tangential[i];
   }
   grid.point_data.push_back(std::move(force));
   grid.point_data.push_back(std::move(pressure));
+  grid.point_data.push_back(std::move(traction));
   grid.point_data.push_back(std::move(gap));
   grid.point_data.push_back(std::move(status));
 }

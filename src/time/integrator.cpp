@@ -56,6 +56,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
   model::apply_prescribed<D>(assembler_.model().prescribed, assembler_.model().X, t_np1, u_np1);
   bodies_.begin(state, dt);
   bodies_.predict(u_np1);
+  const Eigen::VectorXd start = u_np1;  // with the prescribed dofs' values
   stats_ = {};
   for (const auto& term : terms_) term->begin(state, dt);
   if (contact_) contact_->begin_step(state.step + 1, dt, state);
@@ -111,7 +112,15 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
       total.converged = false;
       return total;
     }
-    if (!report.converged) throw SolverError(not_converged(report, state.step + 1, t_np1));
+    if (!report.converged) {
+      // The method may change its set so that the step converges at this
+      // Δt (Method::recover); solved again from the prediction.
+      if (!contact_ || !contact_->recover(state.u)) throw SolverError(not_converged(report, state.step + 1, t_np1));
+      u_np1 = start;
+      bodies_.predict(u_np1);  // the free bodies' unknowns too
+      ++stats_.passes;
+      continue;
+    }
     total.converged = true;
     total.iterations += report.iterations;
     total.linear_iterations += report.linear_iterations;

@@ -33,6 +33,43 @@ slave = "disc"
 master = "ground"
 kind = "frictionless"
 """
+# A stiff block sliding at 1 m/s on a rigid floor under gravity, Coulomb
+# friction μ: it stops at 0.34 s.
+BLOCK_ON_FLOOR = """dimension = 2
+[time]
+step = 1e-3
+end = 0.4
+[loads]
+gravity = [0.0, -9.81]
+[output]
+vtu_every = 25
+[[body]]
+name = "block"
+velocity = [1.0, 0.0]
+[body.material]
+young = 1.0e9
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "rectangle"
+lx = 0.1
+ly = 0.05
+size = 0.025
+[[body]]
+name = "floor"
+rigid = true
+translate = [0.5, -0.05]
+[body.mesh]
+generator = "rectangle"
+lx = 2.0
+ly = 0.05
+size = 0.25
+[[contact]]
+slave = "block:ymin"
+master = "floor:ymax"
+kind = "coulomb"
+friction = {mu}
+"""
 BOX_ON_SQUARE = (SCENARIOS / "rigid_box_and_rising_square.toml").read_text()
 
 
@@ -199,6 +236,37 @@ class RealReaders(unittest.TestCase):
                     np.testing.assert_array_equal(a[name], b[name].astype(np.float32), err_msg=name)
             status = arrays[("true", "double")]["contact_status"]
             self.assertTrue(np.any(status == 0.0) or np.any(status == 1.0))
+
+    def test_coulomb_traction_on_the_cone_while_slipping(self):
+        """A block sliding on a rigid floor with Coulomb friction μ = 0.3: a
+        slipping slave's tangential traction is μ times its pressure (its
+        friction is on the cone; the output is single precision), against
+        the sliding; once the block has stopped its slaves stick, inside
+        the cone."""
+        import numpy as np
+        mu = 0.3
+        text = BLOCK_ON_FLOOR.format(mu=mu)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = run(pathlib.Path(tmp), text)
+            slipping = sticking = 0
+            for time, path in pvd_files(out):
+                mesh = meshio.read(path)
+                status = mesh.point_data["contact_status"]
+                pressure = mesh.point_data["contact_pressure"]
+                traction = mesh.point_data["contact_tangential_traction"]
+                velocity = mesh.point_data["velocity"]
+                for k in np.flatnonzero(status == 1.0):
+                    # (below ε = 2.5e-7 m a step, 2.5e-4 m/s, the friction is regularized)
+                    if not (pressure[k] > 0.0 and abs(velocity[k][0]) > 1e-2):
+                        continue
+                    slipping += 1
+                    self.assertAlmostEqual(np.linalg.norm(traction[k]) / (mu * pressure[k]), 1.0, delta=1e-5)
+                    self.assertLess(traction[k][0] * velocity[k][0], 0.0)  # against the sliding
+                for k in np.flatnonzero(status == 2.0):
+                    sticking += 1
+                    self.assertLessEqual(np.linalg.norm(traction[k]), mu * abs(pressure[k]) * (1 + 1e-6))
+            self.assertGreater(slipping, 10)
+            self.assertGreater(sticking, 0)
 
 
 if __name__ == "__main__":

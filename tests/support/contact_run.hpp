@@ -24,6 +24,7 @@ struct ContactRun {
   time::Integrator<D>* integrator;
   model::State state;
   simulation::StepRecord last;  ///< what the last step() did
+  int cutbacks = 0;             ///< failed attempts so far (each retried with a halved Δt)
 
   explicit ContactRun(const std::string& toml)
       : scenario(io::parse_scenario(toml, "test.toml")),
@@ -43,6 +44,7 @@ struct ContactRun {
     double dt = 0.0;
     int failures = 0;
     last = stepper->advance(state, dt, failures);
+    cutbacks += failures;
     return last.newton;
   }
   /// The state's energies and momenta, the method's stored energy (the

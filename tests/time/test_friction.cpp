@@ -149,6 +149,9 @@ void block_slides_to_rest(const std::string& method) {
 
 TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTime2d) { block_slides_to_rest<2>("elimination"); }
 TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTime3d) { block_slides_to_rest<3>("elimination"); }
+TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByMultipliers2d) {
+  block_slides_to_rest<2>("lagrange");
+}
 
 /// A block released at rest on a plane tilted by θ, μ = 0.3, 0.2 s: its
 /// mean velocity's slope (fitted after 0.05 s) and how far it went.
@@ -191,45 +194,39 @@ TEST(Friction, BlockOnAnInclineStaysBelowTheConeAndSlidesAtTheCoulombRateAbove2d
   EXPECT_LT(std::abs(stays.travel), 1e-4 * slides.travel);  // it stays
 }
 
+/// A neo-Hookean disc (R = 0.1 m, ρ = 1000 kg/m³) on a rigid plane (the
+/// bare segment y = 0) under gravity, moving along x.
+struct Disc {
+  double step = 1e-3, end = 0.25;
+  double speed = 1.0, spin = 0.0;  ///< initial velocity [m/s] and rotation about z [rad/s]
+  double height = 0.0;             ///< of its lowest point above the plane [m]
+  double young = 1e8, poisson = 0.3, size = 0.01;
+  std::string kind = "coulomb";
+  double mu = 0.3;
+};
+
+std::string disc_on_floor(const Disc& d) {
+  return "dimension = 2\n[time]\nstep = " + std::to_string(d.step) + "\nend = " + std::to_string(d.end) +
+         "\n[loads]\ngravity = [0.0, -9.81]\n[[body]]\nname = \"disc\"\nvelocity = [" +
+         std::to_string(d.speed) + ", 0.0]\nangular_velocity = " + std::to_string(d.spin) + "\ntranslate = [0.0, " +
+         std::to_string(0.1 + d.height) + "]\n[body.material]\nmodel = \"neo_hookean\"\nyoung = " +
+         std::to_string(d.young) + "\npoisson = " + std::to_string(d.poisson) +
+         "\ndensity = 1000.0\n[body.mesh]\ngenerator = \"disc\"\nradius = 0.1\nsize = " + std::to_string(d.size) +
+         "\n[[body]]\nname = \"floor\"\nrigid = true\n[body.mesh]\ngenerator = \"segment\"\nlx = 2.0\nsize = "
+         "0.25\n[[contact]]\nslave = \"disc:circle\"\nmaster = \"floor:surface\"\nkind = \"" + d.kind + "\"\n" +
+         (d.kind == "coulomb" ? "friction = " + std::to_string(d.mu) + "\n" : "");
+}
+
 // A solid disc (R = 0.1 m, E = 1e8 Pa) thrown along a rigid plane at
 // v₀ = 1 m/s without spin, μ = 0.3: it skids, decelerating at μ g while
 // friction spins it up, until it rolls at 2/3 v₀ from v₀/(3 μ g) = 0.113 s
-// on; the dissipation is a third of its kinetic energy.
+// on; the dissipation is a third of its kinetic energy. (At Δt = 1e-3 s
+// its node-to-node bouncing rolls it 1.8 % slow; at 5e-4 s, 0.4 %.)
 TEST(Friction, DiscThrownWithoutSpinSkidsThenRollsAtTwoThirdsOfItsSpeed2d) {
-  ContactRun<2> run(R"(dimension = 2
-[time]
-step = 1e-3
-end = 0.25
-[loads]
-gravity = [0.0, -9.81]
-[[body]]
-name = "disc"
-velocity = [1.0, 0.0]
-translate = [0.0, 0.1]
-[body.material]
-model = "neo_hookean"
-young = 1.0e8
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "disc"
-radius = 0.1
-size = 0.01
-[[body]]
-name = "floor"
-rigid = true
-translate = [0.5, -0.025]
-[body.mesh]
-generator = "rectangle"
-lx = 2.0
-ly = 0.05
-size = 0.25
-[[contact]]
-slave = "disc:circle"
-master = "floor:ymax"
-kind = "coulomb"
-friction = 0.3
-)");
+  Disc disc;
+  disc.step = 5e-4;
+  disc.end = 0.25;
+  ContactRun<2> run(disc_on_floor(disc));
   const time::Diagnostics d0 = run.diagnostics();
   const double mass = d0.body_linear[0](0);  // v₀ = 1
   const double a = 0.3 * kGravity, t_roll = 1.0 / (3.0 * a);
@@ -255,6 +252,51 @@ friction = 0.3
   EXPECT_NEAR(dissipated * 3.0, 1.0, 0.05);
 }
 
+// A soft disc (E = 4e6 Pa, like the §6.3 ball) dropped 5 cm onto a rigid
+// plane while sliding at 2 m/s, μ = 0.5: at the impact friction stops its
+// lowest slaves within a step, their slip of the order of ε, where its
+// direction turns over a few ε; Newton then went back and forth across
+// zero slip and the step was cut back to 1e-6 s (37 cutbacks; the §6.3
+// ball failed). A solve that does not converge now sticks its slipping
+// slaves and solves again (Method::recover): no cutback, E + dissipated
+// kept, the rigid plane (a bare segment, massless) where it is.
+TEST(Friction, DiscDroppedWhileSlidingTakesItsImpactWithoutCutback2d) {
+  Disc disc;
+  disc.end = 0.15;
+  disc.speed = 2.0;
+  disc.height = 0.05;
+  disc.young = 4e6;
+  disc.poisson = 0.45;
+  disc.mu = 0.5;
+  ContactRun<2> run(disc_on_floor(disc));
+  const time::Diagnostics d0 = run.diagnostics();
+  double balance = 0.0, scale = 0.0;
+  int slipping = 0, sticking = 0;
+  double floor_moved = 0.0;
+  const auto& floor = run.problem.model.bodies[1];
+  while (run.state.time < run.scenario.time.end - 1e-9) {
+    run.step();
+    // The rigid floor's nodes are prescribed at rest: a solve started
+    // again starts from them, not from a fall under gravity.
+    for (int n = floor.first_node; n < floor.first_node + floor.num_nodes; ++n)
+      floor_moved = std::max(floor_moved, run.state.u.segment<2>(2 * n).norm());
+    const time::Diagnostics d = run.diagnostics();
+    balance = std::max(balance, std::abs(d.total + d.dissipated - d0.total));
+    scale = std::max(scale, d.kinetic + d.strain);
+    slipping = std::max(slipping, run.last.contact.slipping);
+    sticking = std::max(sticking, run.last.contact.sticking);
+  }
+  std::printf("[ measured ] disc dropped while sliding, mu 0.5: %d cutbacks, |E + D - E0| / (K + W) %.1e, "
+              "dissipated %.4f J, at most %d slipping and %d sticking slaves\n",
+              run.cutbacks, balance / scale, run.state.dissipated, slipping, sticking);
+  EXPECT_EQ(run.cutbacks, 0);
+  EXPECT_GT(slipping, 0);
+  EXPECT_GT(sticking, 0);
+  EXPECT_GT(run.state.dissipated, 0.0);
+  EXPECT_LT(balance / scale, 1e-10);
+  EXPECT_EQ(floor_moved, 0.0);
+}
+
 // μ = 0 is the frictionless run, step for step (negative control of the
 // friction itself: without it the block does not slow down).
 TEST(Friction, ZeroFrictionIsTheFrictionlessRun) {
@@ -269,6 +311,44 @@ TEST(Friction, ZeroFrictionIsTheFrictionlessRun) {
   EXPECT_LE((coulomb.state.v - frictionless.state.v).norm(), 1e-10 * scale);
   EXPECT_LE((coulomb.state.u - frictionless.state.u).norm(), 1e-10 * frictionless.state.u.norm());
   EXPECT_NEAR(coulomb.diagnostics().body_linear[0](0), frictionless.diagnostics().body_linear[0](0), 1e-9);
+  EXPECT_EQ(coulomb.state.dissipated, 0.0);
+}
+
+/// A disc (R = 0.1 m) rolling without slip at 1 m/s on a rigid plane
+/// under gravity, its contact of `kind` (with friction μ for coulomb).
+std::string rolling_disc(const std::string& kind, double mu) {
+  Disc disc;
+  disc.end = 0.1;
+  disc.spin = -10.0;
+  disc.young = 1e7;
+  disc.size = 0.02;
+  disc.kind = kind;
+  disc.mu = mu;
+  return disc_on_floor(disc);
+}
+
+// A μ large enough that no slave's force leaves the cone is the stick
+// run: slaves arriving at rest on the plane (rolling) stick, as the stick
+// kind's do, and stay stuck.
+TEST(Friction, LargeFrictionOnARollingDiscIsTheStickRun) {
+  ContactRun<2> coulomb(rolling_disc("coulomb", 100.0));
+  ContactRun<2> stick(rolling_disc("stick", 0.0));
+  int contacts = 0, slipping = 0;
+  while (stick.state.time < stick.scenario.time.end - 1e-9) {
+    coulomb.step();
+    stick.step();
+    contacts = std::max(contacts, stick.last.contact.sticking + static_cast<int>(stick.method->contact_forces().size()));
+    slipping += coulomb.last.contact.slipping;
+  }
+  const double du = (coulomb.state.u - stick.state.u).norm() / stick.state.u.norm();
+  const double dv = (coulomb.state.v - stick.state.v).norm() / stick.state.v.norm();
+  std::printf("[ measured ] rolling disc, mu 100 against stick after 0.1 s: u %.1e, v %.1e relative; %d slipping "
+              "slave-steps\n", du, dv, slipping);
+  EXPECT_GT(contacts, 0);
+  EXPECT_EQ(coulomb.state.time, stick.state.time);
+  EXPECT_EQ(slipping, 0);
+  EXPECT_LE(du, 1e-8);
+  EXPECT_LE(dv, 1e-8);
   EXPECT_EQ(coulomb.state.dissipated, 0.0);
 }
 
@@ -360,13 +440,16 @@ TEST(Friction, ObliqueImpactKeepsMomentaAndEnergyWithTheDissipation) {
   // (at the default 1e-12: 1e-12 to 6e-12, the energy error of a step
   // being its residual's work). J is not kept while slaves stick: a
   // sticking slave is the stick kind's constraint (docs/theory.md).
-  for (const char* method : {"elimination"}) {
-    const Impact two = oblique_impact<2>(method);
-    const Impact three = oblique_impact<3>(method);
-    for (const Impact& m : {two, three}) {
+  // The multipliers' Newton converges linearly with friction (their
+  // tangent leaves out how the force direction turns with the slip): in
+  // 2D only, where it reaches 1e-14.
+  for (const char* method : {"elimination", "lagrange"}) {
+    std::vector<Impact> runs{oblique_impact<2>(method)};
+    if (std::string(method) == "elimination") runs.push_back(oblique_impact<3>(method));
+    for (const Impact& m : runs) {
       EXPECT_LT(m.energy, 2e-11) << method;
       EXPECT_LT(m.linear, 2e-11) << method;
-      EXPECT_LT(m.angular, 1e-5) << method;  // sticking's J error (6e-9 and 8e-8 here), not conserved
+      EXPECT_LT(m.angular, 1e-5) << method;  // sticking's J error (1e-7 to 2e-7 here), not conserved
       EXPECT_TRUE(m.monotone) << method;
       EXPECT_GT(m.dissipated, 0.0) << method;
       EXPECT_GT(m.slipping, 0) << method;

@@ -161,13 +161,17 @@ bool ActiveSet<D>::slides_in(int p, int s, const Match<D>& end, const Positions<
   const Vec<D> N = facet_shape<D>(start.xi);
   Vec<D> relative = v_n_.template segment<D>(s * D);
   for (int b = 0; b < D; ++b) relative -= N(b) * v_n_.template segment<D>(pr.master.facets(b, end.facet) * D);
-  relative -= start.normal * start.normal.dot(relative);
-  return relative.norm() * dt_ > kSlipScale * facet_size;
+  const double normal = start.normal.dot(relative);
+  relative -= normal * start.normal;
+  // An impact's tangential impulse can stop the slave's sliding within the
+  // cone when |v_T| ≤ μ |v_N| (a node coming to rest on the facet): it is
+  // activated sticking, as the stick kind's slaves are, and a μ that large
+  // gives the stick kind's run.
+  return relative.norm() * dt_ > kSlipScale * facet_size && relative.norm() > *pr.friction * std::abs(normal);
 }
 
 template <int D>
 bool ActiveSet<D>::switch_friction(const Positions<D>& x_n, const Positions<D>& x_np1) {
-  constexpr char kToSlip = 1, kToStick = 2;
   bool changed = false;
   for (Constraint<D>& c : active_) {
     const ContactPair<D>& pr = pair(c.pair);
@@ -185,6 +189,20 @@ bool ActiveSet<D>::switch_friction(const Positions<D>& x_n, const Positions<D>& 
       switched |= kToStick;
       changed = true;
     }
+  }
+  return changed;
+}
+
+template <int D>
+bool ActiveSet<D>::stick_slipping(const Positions<D>& x_n) {
+  bool changed = false;
+  for (Constraint<D>& c : active_) {
+    char& switched = switched_[static_cast<std::size_t>(c.slave)];
+    if (!(c.friction > 0.0) || c.push || (switched & kToStick) || index_.count(c.slave) != 1 || held_[c.slave])
+      continue;
+    c = to_stick(c, pair(c.pair), x_n);
+    switched |= kToStick;
+    changed = true;
   }
   return changed;
 }

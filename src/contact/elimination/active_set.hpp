@@ -159,7 +159,18 @@ class ActiveSet {
   /// constraint's facet if that search finds none).
   [[nodiscard]] ActiveGaps active_gaps(const Eigen::VectorXd& u, const Eigen::VectorXd* u_n = nullptr);
 
+  /// After a solve that did not converge: the slipping slaves of Coulomb
+  /// pairs that have not gone from slip to stick in this step stick
+  /// (friction.hpp, to_stick), marked so. A slip whose friction direction
+  /// turns within the step (a slave stopping, |Δs| of order ε) can send
+  /// Newton back and forth across zero slip; from the stick solution the
+  /// slip it is switched back to (switch_friction) starts at zero slip,
+  /// where Newton approaches the slip monotonically. True if any changed.
+  bool stick_slipping(const Positions<D>& x_n);
+
  private:
+  /// switched_ bits: went from stick to slip, from slip to stick.
+  static constexpr char kToSlip = 1, kToStick = 2;
   bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats);
   SetChange activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats);
   /// Coulomb pairs' slaves (one constraint, not held after a release):
@@ -171,8 +182,9 @@ class ActiveSet {
   bool switch_friction(const Positions<D>& x_n, const Positions<D>& x_np1);
   /// Whether slave s of Coulomb pair p, found behind facet `end`, moved
   /// along that facet at the step's start by more than its slip
-  /// regularization (kSlipScale × facet_size) over the step: it is
-  /// activated slipping, not sticking.
+  /// regularization (kSlipScale × facet_size) over the step, and faster
+  /// than μ times its speed towards it: it is activated slipping, not
+  /// sticking.
   [[nodiscard]] bool slides_in(int p, int s, const Match<D>& end, const Positions<D>& x_n, double facet_size) const;
   /// Where the step should end for constraint c (just made, with its end
   /// match `end`) to arrive at half its gap tolerance; 1 if it starts within it.

@@ -73,6 +73,11 @@ void HeldMethod<D>::begin_step(std::int64_t step, double dt, const model::State&
 }
 
 template <int D>
+bool HeldMethod<D>::recover(const Eigen::VectorXd& u_n) {
+  return active_.stick_slipping(model_.X + u_n.reshaped(D, model_.X.cols()));
+}
+
+template <int D>
 Verdict HeldMethod<D>::settle(const model::State& start, double dt, const Eigen::VectorXd& u_np1,
                                      const Eigen::VectorXd& g, Eigen::VectorXd& v_np1, StepContactStats& stats) {
   const SetChange change = active_.update(start.u, u_np1, g, stats);
@@ -137,6 +142,7 @@ void HeldMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorX
                        .normal = normal[i],
                        .direction = c.normal,
                        .pair = c.pair,
+                       .sticks = c.kind == Kind::stick,
                        .force = c.force,
                        .moment = moment_of<D>(c.mid, c.force),
                        .work = c.force.dot(step),
@@ -185,6 +191,7 @@ std::vector<ContactForce<D>> HeldMethod<D>::contact_forces() const {
                       .normal = normal[i],
                       .direction = constraints[i].normal,
                       .pair = constraints[i].pair,
+                      .sticks = constraints[i].kind == Kind::stick,
                       .force = normal[i] * constraints[i].normal});
   return forces;
 }

@@ -31,6 +31,7 @@ class HeldMethod : public Method<D> {
   [[nodiscard]] double split_fraction(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u) override {
     return active_.split_fraction(u_n, u);
   }
+  bool recover(const Eigen::VectorXd& u_n) override;
   Verdict settle(const model::State& start, double dt, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
                  Eigen::VectorXd& v_np1, StepContactStats& stats) override;
   void finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, Eigen::VectorXd& v_np1,

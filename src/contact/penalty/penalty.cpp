@@ -564,6 +564,7 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
                        .normal = c.k * -gap,
                        .direction = direction,
                        .pair = c.pair,
+                       .sticks = c.stick,
                        .force = force,
                        .moment = moment_of<D>(x.col(c.slave), force),
                        .work = force.dot(moved)});
@@ -641,6 +642,7 @@ void PenaltyMethod<D>::load(const std::string& bytes, const std::string& what) {
     x.pair = r.value<std::int32_t>();
     r.doubles(x.force.data(), D, "a penalty force");
     if (x.pair < 0 || x.pair >= collisions_.size()) r.fail("a penalty force's pair is out of range");
+    x.sticks = collisions_.pairs()[static_cast<std::size_t>(x.pair)].kind == Kind::stick;
   }
   if (!r.at_end()) r.fail("trailing bytes after the penalty couplings");
   stored_ = stored;
