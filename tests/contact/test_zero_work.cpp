@@ -153,6 +153,52 @@ void friction_keeps_momenta_and_dissipates() {
 TEST(ZeroWork, FrictionHasNoResultantNorMomentAndDissipatesItsSlip3d) { friction_keeps_momenta_and_dissipates<3>(); }
 TEST(ZeroWork, FrictionHasNoResultantNorMomentAndDissipatesItsSlip2d) { friction_keeps_momenta_and_dissipates<2>(); }
 
+// Stick with the slave held off its facet (γ = 0.2): the test map A takes
+// the facet's displacement to the slave's (no work), its blocks sum to 1
+// (no resultant) and the slave's force f with the master's −A_bᵀ f has no
+// moment about the mid-point positions (J), for a deforming facet and for
+// a rigid one (a rigid body's, where the correction along the non-rigid
+// motion must not divide round-off by round-off). Negative control: the
+// paper's N(ξ̄) ⊗ 1 has the moment γ n × f.
+template <int D>
+void stick_test_keeps_momenta() {
+  const double gamma = 0.2;
+  Xi<D> xi;
+  xi.setConstant(0.3);
+  const Slipping<D> p;
+  const zero_work::Facet<D, double> xm_n = p.x_n.template rightCols<D>();
+  for (const bool rigid : {false, true}) {
+    const zero_work::Facet<D, double> dxm =
+        rigid ? zero_work::Facet<D, double>(rigid_step<D>(p.x_n, 0.4).template rightCols<D>())
+              : zero_work::Facet<D, double>(p.dx.template rightCols<D>());
+    const zero_work::Facet<D, double> xm = xm_n + dxm;
+    const Vec<D> xs_n = zero_work::stick_position<D, double>(xm_n, xi, gamma);
+    const Vec<D> dxs = zero_work::stick_position<D, double>(xm, xi, gamma) - xs_n;
+    const zero_work::FacetJacobian<D, double> A =
+        zero_work::stick_test<D, double>(xm, dxm, xm_n, Vec<D>::Zero(), xi, gamma);
+    ASSERT_TRUE(A.allFinite());
+    EXPECT_LT((A * dxm.reshaped() - dxs).norm(), 1e-14) << "rigid " << rigid;  // no work: dxs is 1e-3, positions 1
+    Eigen::Matrix<double, D, D> sum = Eigen::Matrix<double, D, D>::Zero();
+    for (int b = 0; b < D; ++b) sum += A.template middleCols<D>(b * D);
+    EXPECT_LT((sum - Eigen::Matrix<double, D, D>::Identity()).norm(), 1e-14) << "rigid " << rigid;  // L
+    zero_work::Nodes<D, double> y, f, f_paper;
+    y.col(0) = xs_n + 0.5 * dxs;
+    y.template rightCols<D>() = xm - 0.5 * dxm;
+    const Vec<D> force = Vec<D>::LinSpaced(1.0, 2.0);
+    f.col(0) = f_paper.col(0) = force;
+    const Vec<D> N = zero_work::shape<D, double>(xi);
+    for (int b = 0; b < D; ++b) {
+      f.col(b + 1) = -A.template middleCols<D>(b * D).transpose() * force;
+      f_paper.col(b + 1) = -N(b) * force;
+    }
+    EXPECT_LT(moment<D>(y, f).norm(), 1e-14) << "rigid " << rigid;  // J
+    EXPECT_GT(moment<D>(y, f_paper).norm(), 1e-2) << "rigid " << rigid;
+  }
+}
+
+TEST(ZeroWork, StickTestMapKeepsMomentaOffTheFacet3d) { stick_test_keeps_momenta<3>(); }
+TEST(ZeroWork, StickTestMapKeepsMomentaOffTheFacet2d) { stick_test_keeps_momenta<2>(); }
+
 // The test columns with friction: Wᵀg = 0 for g = λ ā + μ f_N φ, f_N = n·g_s.
 template <int D>
 void friction_test_columns_hold_the_cone() {

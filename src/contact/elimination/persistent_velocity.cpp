@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 
+#include "contact/elimination/zero_work.hpp"
 #include "contact/search.hpp"
 
 namespace conserve::contact {
@@ -124,7 +125,7 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
   if (constraints.empty()) return out;
   std::vector<std::pair<std::size_t, Vec<D>>> row_of;  // per row of A: its constraint and the slave's direction
   // The rows of A: frictionless one per slave (the gap rate), stick D
-  // (the relative velocity of the slave and its frozen point).
+  // (the velocity of the slave relative to its point of the facet's frame).
   std::vector<Eigen::Triplet<double>> rows;
   int m = 0;
   for (const Constraint<D>& c : constraints) {
@@ -144,7 +145,18 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
       const Projection<D> end = project<D>(x.col(c.slave), xm);
       add(m++, end.normal, facet_shape<D>(end.xi));
     } else {
-      for (int i = 0; i < D; ++i) add(m++, Vec<D>::Unit(i), facet_shape<D>(c.xi));
+      // The rate of x_s − F(x_m), F(x_m) = N(ξ̄) x_m + γ n(x_m): its rows
+      // (1, −∂F/∂x_m) have no moment where x_s = F(x_m) (F is frame-
+      // indifferent), also with γ ≠ 0, where (1, −N_b 1) would have γ n × P.
+      const zero_work::FacetJacobian<D, double> dF = zero_work::stick_jacobian<D, double>(xm, c.xi, c.gap);
+      for (int i = 0; i < D; ++i) {
+        const int row = m++;
+        row_of.emplace_back(static_cast<std::size_t>(&c - constraints.data()), Vec<D>::Unit(i));
+        if (impulses) (*impulses)[row_of.back().first].weights = facet_shape<D>(c.xi);
+        rows.emplace_back(row, c.slave * D + i, 1.0);
+        for (int b = 0; b < D; ++b)
+          for (int j = 0; j < D; ++j) rows.emplace_back(row, c.master[b] * D + j, -dF(i, b * D + j));
+      }
     }
   }
   if (m == 0) return out;  // every constraint on a free rigid body's facets

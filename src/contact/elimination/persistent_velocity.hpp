@@ -9,11 +9,12 @@
 /// and gives its energy back, after each converged step:
 ///
 ///  1. persistency: impulses P_c along each active constraint's gradient
-///     a_c (frictionless: the gap rate, a = (n, −N_b n); stick: the
-///     relative velocity, a = (1, −N_b 1)) set the relative velocity of
-///     every active slave to zero, A V_p = 0, with the lumped masses:
-///     V_p = V* + M_L⁻¹ Aᵀμ,  (A M_L⁻¹ Aᵀ) μ = −A V*. The impulses have no
-///     resultant and no moment (x_s − x̄ ∥ n), so L and J are kept; with a
+///     a_c (frictionless: the gap rate, a = (n, −N_b n); stick: the rate
+///     of x_s − F(x_m), a = (1, −∂F/∂x_m), zero_work.hpp) set the relative
+///     velocity of every active slave to zero, A V_p = 0, with the lumped
+///     masses: V_p = V* + M_L⁻¹ Aᵀμ,  (A M_L⁻¹ Aᵀ) μ = −A V*. The impulses
+///     have no resultant and no moment (frictionless: x_s − x̄ ∥ n; stick:
+///     x_s = F(x_m), F frame-indifferent), so L and J are kept; with a
 ///     consistent M the rigid part of M(V_p − V*) is removed as well.
 ///  2. energy: the kinetic energy the impulses took, K* − K_p, is given
 ///     back by the smallest change of V_p in the kinetic (M-) norm that

@@ -17,10 +17,11 @@
 /// a·Δx is what the paper's (48) sets to zero: ā = a whenever (48) holds.
 ///
 /// Stick: the slave is the point x_s = F(x_m) = N(ξ̄) x_m + γ n(x_m) of its
-/// facet's frame; the master receives −Aᵀ f, with A the secant of F:
-///   A = ∂F/∂x_m(x_m,n+½) + R (P_t Δx_m)ᵀ/|P_t Δx_m|²,  R = Δx_s − ∂F/∂x_m Δx_m,
-/// so A Δx_m = Δx_s (no work) and Σ_b A_b = 1 (linear momentum); with
-/// γ = 0, F is linear and A = N(ξ̄) ⊗ 1, the paper's (41).
+/// facet's frame; the master receives −Aᵀ f, with A a secant of F
+/// (stick_test) such that A Δx_m = Δx_s (no work), Σ_b A_b = 1 (linear
+/// momentum) and A maps the facet's rigid motions about the mid-point to
+/// the slave's (angular momentum); with γ = 0, F is linear and
+/// A = N(ξ̄) ⊗ 1, the paper's (41).
 ///
 /// Every function is templated on the scalar so that the reduced tangent's
 /// variation terms are obtained by automatic differentiation
@@ -57,6 +58,9 @@ using FacetJacobian = Eigen::Matrix<S, D, D * D>;
 /// noise: noise = |a| (kRoundOff |Δx| + kPositionRoundOff |x|).
 inline constexpr double kRoundOff = 1e-13;
 inline constexpr double kPositionRoundOff = 1e-15;
+/// How far above its round-off a facet's non-rigid motion must be for the
+/// stick map's correction along it to act in full (stick_test).
+inline constexpr double kRigidFloor = 1e3;
 
 /// The weight s of the correction for a work (defect) whose square is
 /// `value2` and whose round-off level is `noise`.
@@ -115,6 +119,36 @@ V<D, S> shape(const Eigen::Matrix<S, D - 1, 1>& xi) {
   N(0) = S(1.0) - xi.sum();
   N.template tail<D - 1>() = xi;
   return N;
+}
+
+/// Θ: the rotation of the least-squares rigid motion of a displacement δx
+/// of the points y (columns), about their centroid, as a linear map of δx:
+/// θ = Θ δx (column a·D + i for point a's dof i), one row in 2D, three in
+/// 3D; θ = I⁻¹ Σ_a (y_a − c) × δx_a, I the points' inertia about c. It is
+/// zero for a translation and ω for the rotation δx = ω × y.
+template <int D, int K, class S>
+Eigen::Matrix<S, D == 3 ? 3 : 1, D * K> rotation_fit(const Eigen::Matrix<S, D, K>& y) {
+  const V<D, S> c = y.rowwise().mean();
+  const Eigen::Matrix<S, D, K> r = y.colwise() - c;
+  Eigen::Matrix<S, D == 3 ? 3 : 1, D * K> theta;
+  if constexpr (D == 3) {
+    Eigen::Matrix<S, 3, 3> inertia = Eigen::Matrix<S, 3, 3>::Zero();
+    for (int a = 0; a < K; ++a)
+      inertia += r.col(a).squaredNorm() * Eigen::Matrix<S, 3, 3>::Identity() - r.col(a) * r.col(a).transpose();
+    const Eigen::Matrix<S, 3, 3> inverse = inertia.inverse();
+    for (int a = 0; a < K; ++a) {
+      Eigen::Matrix<S, 3, 3> cross;  // [r_a]×
+      cross << S(0.0), -r(2, a), r(1, a), r(2, a), S(0.0), -r(0, a), -r(1, a), r(0, a), S(0.0);
+      theta.template middleCols<3>(3 * a) = inverse * cross;
+    }
+  } else {
+    const S inertia = r.squaredNorm();
+    for (int a = 0; a < K; ++a) {
+      theta(0, 2 * a) = -r(1, a) / inertia;
+      theta(0, 2 * a + 1) = r(0, a) / inertia;
+    }
+  }
+  return theta;
 }
 
 /// w = P Δx: Δx minus its least-squares rigid motion t + ω × (y − c) about
@@ -374,22 +408,50 @@ FacetJacobian<D, S> stick_jacobian(const Facet<D, S>& xm, const Xi<D>& xi, doubl
 /// master positions xm with displacements dxm (exact, as for
 /// frictionless_direction), the slave going to F(xm); `offset` is
 /// x_s,n − F(x_m,n), the slave's start off its frozen point (round-off).
-/// The master rows of the reduced residual are g_m + Aᵀ g_s.
+/// The master rows of the reduced residual are g_m + Aᵀ g_s. With y the
+/// mid-point positions, d = y_s − F(y_m) and Θ the facet's rotation_fit,
+///   A₀ = ∂F/∂x_m(y_m) − [d]× Θ   (2D: (−d_y, d_x) Θ),
+/// maps every rigid motion c + ω × y_m of the facet to c + ω × y_s (F is
+/// frame-indifferent, so ∂F (ω × y_m) = ω × F(y_m)); the slave's force
+/// then has no resultant and no moment about y with the master's: L and J
+/// are kept whatever γ. The zero-work correction acts along the facet's
+/// non-rigid motion w = P Δx_m only, which no rigid motion has:
+///   A = A₀ + R wᵀ/|w|²,  R = Δx_s − A₀ Δx_m,   so A Δx_m = Δx_s.
+/// With γ = 0 and no offset, d = 0, R = 0 and A = N(ξ̄) ⊗ 1: the paper's (41).
 template <int D, class S>
 FacetJacobian<D, S> stick_test(const Facet<D, S>& xm, const Facet<D, S>& dxm, const Facet<D, double>& xm_n,
                                const Vec<D>& offset, const Xi<D>& xi, double gamma) {
-  FacetJacobian<D, S> A = stick_jacobian<D, S>(Facet<D, S>(xm - S(0.5) * dxm), xi, gamma);
-  const Eigen::Matrix<S, D, D> w = dxm.colwise() - dxm.rowwise().mean();  // P_t Δx_m: no translation
-  const S ww = w.squaredNorm();
-  if (!(ww > 0.0)) return A;  // a translation: F moves with it
+  const Facet<D, S> ym = xm - S(0.5) * dxm;
+  FacetJacobian<D, S> A = stick_jacobian<D, S>(ym, xi, gamma);
+  const V<D, S> N = shape<D, S>(xi.template cast<S>());
   // Δx_s = F(x_m) − x_s,n = N Δx_m + γ (n(x_m) − n(x_m,n)) − offset, free of cancellation.
-  const V<D, S> dn = raw_normal<D, S>(xm).normalized() - raw_normal<D, double>(xm_n).normalized().template cast<S>();
-  const V<D, S> dxs = dxm * shape<D, S>(xi.template cast<S>()) + S(gamma) * dn - offset.template cast<S>();
+  const V<D, S> n_end = raw_normal<D, S>(xm).normalized();
+  const V<D, S> dn = n_end - raw_normal<D, double>(xm_n).normalized().template cast<S>();
+  const V<D, S> dxs = dxm * N + S(gamma) * dn - offset.template cast<S>();
+  // d = y_s − F(y_m) = (N Δx_m − Δx_s)/2 + γ (n(x_m) − n(y_m)), free of cancellation too.
+  const V<D, S> d = S(0.5) * (dxm * N - dxs) + S(gamma) * (n_end - raw_normal<D, S>(ym).normalized());
+  const auto theta = rotation_fit<D, D, S>(ym);
+  if constexpr (D == 3) {
+    Eigen::Matrix<S, 3, 3> cross;  // [d]×
+    cross << S(0.0), -d(2), d(1), d(2), S(0.0), -d(0), -d(1), d(0), S(0.0);
+    A -= cross * theta;
+  } else {
+    A += V<2, S>(-d(1), d(0)) * theta;
+  }
+  const Facet<D, S> w = non_rigid_part<D, D, S>(ym, dxm);
+  const S ww = w.squaredNorm();
+  if (!(ww > 0.0)) return A;  // a rigid motion: A₀ reproduces it
   const V<D, S> R = dxs - A * dxm.reshaped();
   const S noise =
       S(kRoundOff) * (dxs.norm() + A.norm() * dxm.norm()) + S(kPositionRoundOff) * (S(1.0) + A.norm()) * xm.norm();
   const S weight = correction_weight<S>(R.squaredNorm(), noise);
-  return A + (weight / ww) * R * w.reshaped().transpose();
+  // A rigid facet (a rigid body's) has w at round-off, where R wᵀ/|w|²
+  // would be noise over noise: w·w is floored at (kRigidFloor ν)², ν the
+  // round-off of w, which leaves (1 − |w|²/(|w|² + (kRigidFloor ν)²)) R of
+  // work, R being at round-off there too.
+  const double dxm_size = std::sqrt(value_of(dxm.squaredNorm())), xm_size = std::sqrt(value_of(xm.squaredNorm()));
+  const double w_noise = kRigidFloor * (kRoundOff * dxm_size + kPositionRoundOff * xm_size);
+  return A + (weight / (ww + S(w_noise * w_noise))) * R * w.reshaped().transpose();
 }
 
 }  // namespace conserve::contact::zero_work
