@@ -486,11 +486,10 @@ SectionSpec contact_section() {
                .required = true,
                .choices = {"frictionless", "stick", "coulomb"},
                .doc = "`frictionless` (conserves energy, linear and angular momentum), `stick` (full stick "
-                      "friction; conserves energy and linear momentum) or `coulomb` (Coulomb friction with "
-                      "coefficient `friction`: a slave sticks while its tangential force is inside μ × its "
-                      "normal force and slips against it otherwise; conserves linear momentum and energy + "
-                      "`dissipated` (history.csv), and angular momentum while no slave sticks; method "
-                      "`elimination` or `lagrange`)"},
+                      "friction; conserves energy, linear and angular momentum) or `coulomb` (Coulomb friction "
+                      "with coefficient `friction`: a slave sticks while its tangential force is inside μ × its "
+                      "normal force and slips against it otherwise; conserves linear and angular momentum and "
+                      "energy + `dissipated` (history.csv); method `elimination` or `lagrange`)"},
               {.name = "friction",
                .type = KeyType::number,
                .default_value = "0",

@@ -54,11 +54,8 @@ Conservation conservation(const io::Scenario& scenario) {
       touches = touches || contact.slave_body == scenario.bodies[i].name || contact.master_body == scenario.bodies[i].name;
     if (touches) breaks_momenta(c, "rigid bodies");
   }
-  for (const auto& contact : scenario.contacts)
-    if (contact.kind == io::ContactKind::stick)
-      for (int q = 4; q < kQuantities; ++q) breaks(c, q, "stick contact");
-    else if (contact.kind == io::ContactKind::coulomb && contact.friction > 0.0)
-      for (int q = 4; q < kQuantities; ++q) breaks(c, q, "Coulomb contact's sticking");
+  // Contact of every kind and method keeps E (with what it dissipates or
+  // lets go), L and J: stick too (docs/theory.md (S2)).
   return c;
 }
 

@@ -117,7 +117,10 @@ void add_contact(Builder& f, std::size_t i, const io::ContactSpec& c) {
   const std::string name = fmt::format("contact[{}] ", i);
   f.setting(name + "surfaces",
             fmt::format("slave {}:{}, master {}:{}", c.slave_body, c.slave_group, c.master_body, c.master_group));
-  f.setting(name + "kind", c.kind == io::ContactKind::stick ? "stick" : "frictionless");
+  f.setting(name + "kind", c.kind == io::ContactKind::stick     ? "stick"
+                           : c.kind == io::ContactKind::coulomb ? "coulomb"
+                                                                : "frictionless");
+  if (c.kind == io::ContactKind::coulomb) f.setting(name + "friction", fmt::format("{}", c.friction));
   f.setting(name + "depth_factor", fmt::format("{}", c.depth_factor));
   f.setting(name + "method", c.method);
   if (c.method == "penalty") {

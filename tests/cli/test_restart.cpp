@@ -217,6 +217,20 @@ TEST(Restart, RefusalNamesAChangedContactKind) {
                         "the checkpoint was written with contact[0] kind = frictionless, this scenario has stick");
 }
 
+TEST(Restart, RefusalNamesAChangedCoulombKindOrFriction) {
+  expect_refused_naming("coulomb", "kind = \"frictionless\"", "kind = \"coulomb\"\nfriction = 0.3",
+                        "the checkpoint was written with contact[0] kind = frictionless, this scenario has coulomb");
+  const auto dir = scratch("restart_refused_friction");
+  write_file(dir / "s.toml", kGlancingDiscs);
+  const std::string coulomb = " --set 'contact.0.kind=\"coulomb\"' --set contact.0.friction=";
+  ASSERT_EQ(run_cli("run s.toml -q -o a --steps 10" + coulomb + "0.3", dir).exit_code, 0);
+  const CliResult r = run_cli("run s.toml -q -o b --restart a/checkpoints/ckpt_000010.bin" + coulomb + "0.5", dir);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("written by another scenario: the checkpoint was written with contact[0] friction = "
+                               "0.3, this scenario has 0.5"));
+  EXPECT_FALSE(fs::exists(dir / "b")) << "a refused restart wrote output";
+}
+
 // The contact scheme changes the trajectory: a restart must be given the
 // same [active_set] (here by `--set`) as the run it continues.
 TEST(Restart, RefusalNamesAChangedContactScheme) {

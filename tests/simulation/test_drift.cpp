@@ -63,6 +63,19 @@ TEST(Drift, TheMidpointStressDoesNotConserveEnergy) {
   EXPECT_TRUE(c.conserved(1));
 }
 
+// Stick and Coulomb friction keep J (docs/theory.md (S2)), with every method.
+TEST(Drift, StickAndCoulombKeepAngularMomentum) {
+  const std::string b =
+      "[[body]]\nname = \"b\"\ntranslate = [2, 0, 0]\n[body.material]\nyoung = 1e6\npoisson = 0.3\n"
+      "density = 1000\n[body.mesh]\ngenerator = \"box\"\nlx = 1\nly = 1\nlz = 1\nsize = 0.5\n";
+  const std::string pair = "[[contact]]\nslave = \"a:xmax\"\nmaster = \"b:xmin\"\n";
+  for (const char* kind : {"kind = \"stick\"\n", "kind = \"stick\"\nmethod = \"penalty\"\n",
+                           "kind = \"coulomb\"\nfriction = 0.3\n"}) {
+    const Conservation c = of(b + pair + kind);
+    for (int q = 0; q < kQuantities; ++q) EXPECT_TRUE(c.conserved(q)) << kind << kQuantityNames[q];
+  }
+}
+
 time::Diagnostics state(double kinetic, double total, double lx) {
   time::Diagnostics d;
   d.kinetic = kinetic;
