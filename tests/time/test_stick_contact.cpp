@@ -109,9 +109,10 @@ TEST(StickContact, ContactIsMadeAndReleased) {
 namespace conserve::time {
 namespace {
 
-// The same with the defaults (persistent contact, located impacts): the
-// velocity update's stick impulses are along the rate of x_s − F(x_m),
-// which has no moment where the slave is held off its facet by γ.
+// Two free discs in 2D, with the paper's scheme and with the defaults
+// (persistent contact: its stick impulses are along the rate of
+// x_s − F(x_m), which has no moment where the slave is held off its facet
+// by γ), for each method.
 void two_free_discs_keep_momenta(bool paper_scheme, const std::string& method = "elimination") {
   const std::string toml = test::with_method(test::glancing_spheres(2, "stick", 0.1), method);
   test::ContactRun<2> run(paper_scheme ? test::paper(toml) : toml);
