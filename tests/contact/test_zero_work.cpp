@@ -180,7 +180,7 @@ void stick_test_keeps_momenta() {
     EXPECT_LT((A * dxm.reshaped() - dxs).norm(), 1e-14) << "rigid " << rigid;  // no work: dxs is 1e-3, positions 1
     Eigen::Matrix<double, D, D> sum = Eigen::Matrix<double, D, D>::Zero();
     for (int b = 0; b < D; ++b) sum += A.template middleCols<D>(b * D);
-    EXPECT_LT((sum - Eigen::Matrix<double, D, D>::Identity()).norm(), 1e-14) << "rigid " << rigid;  // L
+    EXPECT_LT((sum - Eigen::Matrix<double, D, D>::Identity()).norm(), 1e-13) << "rigid " << rigid;  // L
     zero_work::Nodes<D, double> y, f, f_paper;
     y.col(0) = xs_n + 0.5 * dxs;
     y.template rightCols<D>() = xm - 0.5 * dxm;
@@ -191,7 +191,10 @@ void stick_test_keeps_momenta() {
       f.col(b + 1) = -A.template middleCols<D>(b * D).transpose() * force;
       f_paper.col(b + 1) = -N(b) * force;
     }
-    EXPECT_LT(moment<D>(y, f).norm(), 1e-14) << "rigid " << rigid;  // J
+    std::printf("[ measured ] %dD stick map, %s facet: moment %.1e (paper's map %.1e), |Σ A_b − 1| %.1e, work %.1e\n",
+                D, rigid ? "rigid" : "deforming", moment<D>(y, f).norm(), moment<D>(y, f_paper).norm(),
+                (sum - Eigen::Matrix<double, D, D>::Identity()).norm(), (A * dxm.reshaped() - dxs).norm());
+    EXPECT_LT(moment<D>(y, f).norm(), 1e-12) << "rigid " << rigid;  // J (the old map: 1e-7 to 1e-2)
     EXPECT_GT(moment<D>(y, f_paper).norm(), 1e-2) << "rigid " << rigid;
   }
 }
