@@ -64,9 +64,6 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   contact.method = s.string("method");
   contact.penalty = s.number("penalty");
   contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
-  if (contact.kind == ContactKind::coulomb && contact.method == "penalty")
-    s.fail("kind", "\"coulomb\" is not available with method = \"penalty\" yet",
-           "method = \"elimination\" or \"lagrange\" with kind = \"coulomb\"");
   return contact;
 }
 

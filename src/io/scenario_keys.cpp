@@ -489,7 +489,7 @@ SectionSpec contact_section() {
                       "friction; conserves energy, linear and angular momentum) or `coulomb` (Coulomb friction "
                       "with coefficient `friction`: a slave sticks while its tangential force is inside μ × its "
                       "normal force and slips against it otherwise; conserves linear and angular momentum and "
-                      "energy + `dissipated` (history.csv); method `elimination` or `lagrange`)"},
+                      "energy + `dissipated` (history.csv); every method)"},
               {.name = "friction",
                .type = KeyType::number,
                .default_value = "0",

@@ -100,6 +100,17 @@ TEST(Restart, PenaltyContactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_penalty_ball", with_method(kBallOnPlane, "penalty"), 80, 75);
 }
 
+// Coulomb friction's state comes back: elimination's stick/slip and the
+// penalty's slipping anchors (the discs slide along each other, μ = 0.3).
+TEST(Restart, CoulombContactHistoryIsBitIdentical) {
+  std::string coulomb = kGlancingDiscs;
+  const std::size_t at = coulomb.find("kind = \"frictionless\"");
+  ASSERT_NE(at, std::string::npos);
+  coulomb.replace(at, std::string("kind = \"frictionless\"").size(), "kind = \"coulomb\"\nfriction = 0.3");
+  expect_identical_after_restart("restart_coulomb_discs", coulomb, 35, 30);
+  expect_identical_after_restart("restart_penalty_coulomb_discs", with_method(coulomb, "penalty"), 35, 30);
+}
+
 // The multipliers' active set comes back as elimination's does.
 TEST(Restart, LagrangeContactHistoryIsBitIdentical) {
   expect_identical_after_restart("restart_lagrange_discs", with_method(kGlancingDiscs, "lagrange"), 35, 30);

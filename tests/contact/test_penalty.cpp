@@ -9,7 +9,9 @@
 #include <Eigen/Core>
 #include <unsupported/Eigen/AutoDiff>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -139,6 +141,25 @@ void check_potential_is_half_k_g_squared() {
 TEST(PenaltyForce, PotentialIsHalfKGapSquared2d) { check_potential_is_half_k_g_squared<2>(); }
 TEST(PenaltyForce, PotentialIsHalfKGapSquared3d) { check_potential_is_half_k_g_squared<3>(); }
 
+/// y's entries as the unknowns of fixed-size automatic differentiation
+/// (entry a D + i: y(i, a)).
+template <int D, class Ad>
+CouplingNodes<D, Ad> seeded(const Nodes<D>& y) {
+  CouplingNodes<D, Ad> y_ad;
+  for (int a = 0; a <= D; ++a)
+    for (int i = 0; i < D; ++i) y_ad(i, a) = Ad(y(i, a), D * (D + 1), a * D + i);
+  return y_ad;
+}
+
+/// The derivatives of a force by those unknowns: row a D + i is f(i, a)'s.
+template <int D, class Ad>
+Eigen::Matrix<double, D*(D + 1), D*(D + 1)> derivative_of(const CouplingNodes<D, Ad>& f) {
+  Eigen::Matrix<double, D*(D + 1), D*(D + 1)> K;
+  for (int a = 0; a <= D; ++a)
+    for (int i = 0; i < D; ++i) K.row(a * D + i) = f(i, a).derivatives().transpose();
+  return K;
+}
+
 // The derivative by y_{n+1} by automatic differentiation (what the tangent
 // assembles, PenaltyMethod::add_force) by the Taylor test of the force
 // along random directions (a remainder of order 2, support/taylor.hpp),
@@ -155,13 +176,8 @@ void check_tangent(bool conserving, bool stick) {
   const Anchor<D> anchor = stick ? &xi0 : nullptr;
   const Nodes<D> y_n = coupling<D>(-0.02, 0.02, rng), y_1 = coupling<D>(-0.05, 0.02, rng);
   const double k = 1e5;
-  CouplingNodes<D, Ad> y_ad;
-  for (int a = 0; a <= D; ++a)
-    for (int i = 0; i < D; ++i) y_ad(i, a) = Ad(y_1(i, a), N, a * D + i);
-  const CouplingNodes<D, Ad> f_ad = penalty_force<D, Ad>(y_n, y_ad, k, conserving, anchor);
-  Eigen::Matrix<double, N, N> K;
-  for (int a = 0; a <= D; ++a)
-    for (int i = 0; i < D; ++i) K.row(a * D + i) = f_ad(i, a).derivatives().transpose();
+  const Eigen::Matrix<double, N, N> K =
+      derivative_of<D, Ad>(penalty_force<D, Ad>(y_n, seeded<D, Ad>(y_1), k, conserving, anchor));
   ASSERT_GT(K.norm(), 1e3) << "the tangent is not zero";
   auto force = [&](const Eigen::VectorXd& y) {
     return Eigen::VectorXd(
@@ -189,6 +205,145 @@ TEST(PenaltyForce, TangentMatchesFiniteDifferences3d) {
   for (bool conserving : {true, false})
     for (bool stick : {false, true}) check_tangent<3>(conserving, stick);
 }
+
+// A Coulomb spring (finite μ): its anchor slips by the return map. Over
+// every step the force's work is the potential's change (each end with its
+// own anchor) plus the friction's work D ≥ 0 to round-off, with no
+// resultant and no moment; a slipping step leaves the spring's mid-point
+// stretch at μ g_m (|f_T| = μ f_N), an infinite μ is the stick spring
+// bit for bit, and a mid-point force (the negative control) misses the
+// balance.
+template <int D>
+void check_coulomb_balance() {
+  std::mt19937 rng(23 + D);
+  const double k = 3.0e5, mu = 0.3;
+  double worst = 0.0, worst_midpoint = 0.0, largest_d = 0.0;
+  int slipped = 0, stuck = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    // Slaves sliding far (slip) and little (stick), facets moving and
+    // deforming.
+    const double h_n = -0.04, h_1 = (trial % 2) ? -0.07 : -0.03;
+    const Nodes<D> y_n = coupling<D>(h_n, 0.02, rng);
+    Nodes<D> y_1 = coupling<D>(h_1, 0.02, rng);
+    if (trial % 3 == 0) y_1.col(0)(0) += 0.3;  // a long slide
+    if (trial % 3 == 1) y_1 = y_n + 1e-2 * (y_1 - y_n);  // a short one
+    // The anchor near the slave's projection (a short step stays in the
+    // cone, 0.005 against μ |g| = 0.012) or further off.
+    const Eigen::Matrix<double, D - 1, 1> xi0 =
+        projected_xi<D>(y_n) + Eigen::Matrix<double, D - 1, 1>::Constant(trial % 3 == 1 ? 0.004 : 0.05);
+    CoulombStep<D, double> step, step_mid;
+    const Nodes<D> f = penalty_force<D, double>(y_n, y_1, k, true, &xi0, mu, &step);
+    const Nodes<D> f_mid = penalty_force<D, double>(y_n, y_1, k, false, &xi0, mu, &step_mid);
+    const double phi_n = penalty_energy<D>(y_n, k, &xi0), phi_1 = penalty_energy<D>(y_1, k, &step.anchor);
+    const double scale = std::max({phi_n, phi_1, step.dissipated});
+    ASSERT_GT(scale, 1.0);
+    worst = std::max(worst, std::abs(work<D>(f, y_n, y_1) - (phi_1 - phi_n) - step.dissipated) / scale);
+    const double phi_1_mid = penalty_energy<D>(y_1, k, &step_mid.anchor);
+    worst_midpoint = std::max(
+        worst_midpoint, std::abs(work<D>(f_mid, y_n, y_1) - (phi_1_mid - phi_n) - step_mid.dissipated) / scale);
+    EXPECT_GE(step.dissipated, 0.0) << "trial " << trial;
+    const double force = f.cwiseAbs().maxCoeff();
+    ASSERT_GT(force, 0.0);
+    EXPECT_LT(f.rowwise().sum().cwiseAbs().maxCoeff(), 1e-12 * force) << "resultant, trial " << trial;
+    EXPECT_LT(moment<D>(f, 0.5 * (y_n + y_1)).norm(), 1e-12 * force) << "moment, trial " << trial;
+    if (step.slips) {
+      ++slipped;
+      largest_d = std::max(largest_d, step.dissipated);
+      EXPECT_GT(step.dissipated, 0.0);
+    } else {
+      ++stuck;
+      EXPECT_EQ(step.dissipated, 0.0);
+      EXPECT_EQ(step.anchor, xi0);
+      EXPECT_EQ(f, (penalty_force<D, double>(y_n, y_1, k, true, &xi0))) << "a stuck step is the stick spring's";
+    }
+    // An infinite μ is the stick spring.
+    EXPECT_EQ((penalty_force<D, double>(y_n, y_1, k, true, &xi0, std::numeric_limits<double>::infinity())),
+              (penalty_force<D, double>(y_n, y_1, k, true, &xi0)));
+  }
+  std::printf("[ measured ] %dD Coulomb: |work − ΔΦ − D| / scale at most %.1e (discrete gradient), %.1e (mid-point); "
+              "%d slipping and %d sticking steps, D up to %.3g J\n",
+              D, worst, worst_midpoint, slipped, stuck, largest_d);
+  EXPECT_GT(slipped, 10);
+  EXPECT_GT(stuck, 10);
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(worst_midpoint, 1e-4);  // the negative control
+}
+TEST(PenaltyForce, CoulombWorkIsThePotentialsChangeAndTheDissipation2d) { check_coulomb_balance<2>(); }
+TEST(PenaltyForce, CoulombWorkIsThePotentialsChangeAndTheDissipation3d) { check_coulomb_balance<3>(); }
+
+// On a facet that does not move, a slave sliding along it and sinking:
+// the force on it has the tangential part μ times the normal part, against
+// the slide, in the steps it slips (all but the first, which starts the
+// spring from its anchor), crossing into the facet too.
+template <int D>
+void check_coulomb_cone() {
+  std::mt19937 rng(31);
+  const double k = 1e5, mu = 0.4;
+  Nodes<D> y = coupling<D>(0.004, 0.0, rng);
+  const FacetNodes<D> facet = y.template rightCols<D>();
+  const Vec<D> n = facet_normal<D>(facet);
+  Eigen::Matrix<double, D - 1, 1> xi0 = projected_xi<D>(y);
+  int slipped = 0;
+  double worst = 0.0;
+  for (int step = 0; step < 8; ++step) {
+    Nodes<D> y_1 = y;
+    y_1.col(0)(0) += 0.01;       // slides along x
+    y_1.col(0)(D - 1) -= 0.002;  // and sinks (in at the second step)
+    CoulombStep<D, double> slip;
+    const Nodes<D> f = penalty_force<D, double>(y, y_1, k, true, &xi0, mu, &slip);
+    const double normal = -f.col(0).dot(n);  // ∂Φ/∂x_s points into the master
+    const Vec<D> tangential = f.col(0) + normal * n;
+    if (slip.slips && normal > 0.0) {
+      ++slipped;
+      worst = std::max(worst, std::abs(tangential.norm() / normal - mu));
+      EXPECT_GT(tangential(0), 0.0) << "∂Φ/∂x_s along the slide: the force on the slave is against it";
+    }
+    xi0 = slip.anchor;
+    y = y_1;
+  }
+  std::printf("[ measured ] %dD Coulomb spring on a fixed facet: |f_T| / f_N − μ at most %.1e over %d slipping steps\n",
+              D, worst, slipped);
+  EXPECT_GE(slipped, 6);
+  EXPECT_LT(worst, 1e-11);
+}
+TEST(PenaltyForce, CoulombForceOnAFixedFacetIsOnTheCone2d) { check_coulomb_cone<2>(); }
+TEST(PenaltyForce, CoulombForceOnAFixedFacetIsOnTheCone3d) { check_coulomb_cone<3>(); }
+
+// The Coulomb force's derivative (the return map's included) by the
+// Taylor test, slipping and sticking.
+template <int D>
+void check_coulomb_tangent() {
+  constexpr int N = D * (D + 1);
+  using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+  std::mt19937 rng(29);
+  const double k = 1e5;
+  for (const bool slide : {true, false}) {
+    const Nodes<D> y_n = coupling<D>(-0.04, 0.02, rng);
+    Nodes<D> y_1 = coupling<D>(-0.05, 0.02, rng);
+    if (slide) y_1.col(0)(0) += 0.3;
+    else y_1 = y_n + 1e-2 * (y_1 - y_n);
+    const Eigen::Matrix<double, D - 1, 1> xi0 =
+        projected_xi<D>(y_n) + Eigen::Matrix<double, D - 1, 1>::Constant(slide ? 0.05 : 0.004);
+    CoulombStep<D, Ad> step;
+    const Eigen::Matrix<double, N, N> K =
+        derivative_of<D, Ad>(penalty_force<D, Ad>(y_n, seeded<D, Ad>(y_1), k, true, &xi0, 0.3, &step));
+    ASSERT_EQ(step.slips, slide);
+    ASSERT_GT(K.norm(), 1e3) << "the tangent is not zero";
+    auto force = [&](const Eigen::VectorXd& y) {
+      return Eigen::VectorXd(
+          penalty_force<D, double>(y_n, Nodes<D>(y.reshaped(D, D + 1)), k, true, &xi0, 0.3).reshaped());
+    };
+    for (int direction = 0; direction < 3; ++direction) {
+      const Eigen::VectorXd d = test::random_direction(rng, N);
+      const test::TaylorOrder t = test::taylor_order(force, y_1.reshaped(), d, K * d, 1e-3);
+      std::printf("[ measured ] Coulomb penalty force tangent %dD, %s, direction %d: %s\n", D,
+                  slide ? "slipping" : "sticking", direction + 1, test::describe(t).c_str());
+      test::expect_second_order(t, slide ? "slipping" : "sticking");
+    }
+  }
+}
+TEST(PenaltyForce, CoulombTangentMatchesFiniteDifferences2d) { check_coulomb_tangent<2>(); }
+TEST(PenaltyForce, CoulombTangentMatchesFiniteDifferences3d) { check_coulomb_tangent<3>(); }
 
 }  // namespace
 }  // namespace conserve::contact::penalty

@@ -269,11 +269,11 @@ TEST(ScenarioContact, CoulombNeedsItsFrictionAndOnlyItReadsIt) {
   EXPECT_TRUE(fails_with(coulomb("friction = -0.1\n"), 25, "contact[0].friction", "-0.1 is out of range"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "friction = 0.3\n"), 25, "contact[0].friction",
                          "is read with kind = \"coulomb\" only (kind is \"stick\")"));
-  EXPECT_TRUE(fails_with(coulomb("friction = 0.3\nmethod = \"penalty\"\n"), 24, "contact[0].kind",
-                         "\"coulomb\" is not available with method = \"penalty\" yet"));
   const auto s = parse_scenario(coulomb("friction = 0.3\n"), case_file());
   EXPECT_EQ(s.contacts[0].kind, io::ContactKind::coulomb);
   EXPECT_EQ(s.contacts[0].friction, 0.3);
+  EXPECT_EQ(parse_scenario(coulomb("friction = 0.3\nmethod = \"penalty\"\n"), case_file()).contacts[0].method,
+            "penalty");
 }
 
 TEST(ScenarioContact, SecondPairErrorsNameIndexOne) {

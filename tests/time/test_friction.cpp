@@ -106,7 +106,7 @@ Slide slide(const std::string& toml) {
         s.distance += 0.5 * (v_a + v_b) * (run.state.time - t_a);
       }
     }
-    s.balance = std::max(s.balance, std::abs(d.total + d.dissipated - d0.total) / d0.total);
+    s.balance = std::max(s.balance, std::abs(d.total + d.dissipated + d.released - d0.total) / d0.total);
     s.monotone = s.monotone && d.dissipated >= last;
     last = d.dissipated;
     s.slipping_steps += run.last.contact.slipping > 0;
@@ -152,6 +152,8 @@ TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTime3d) { block_s
 TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByMultipliers2d) {
   block_slides_to_rest<2>("lagrange");
 }
+TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByPenalty2d) { block_slides_to_rest<2>("penalty"); }
+TEST(Friction, BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByPenalty3d) { block_slides_to_rest<3>("penalty"); }
 
 /// A block released at rest on a plane tilted by θ, μ = 0.3, 0.2 s: its
 /// mean velocity's slope (fitted after 0.05 s) and how far it went.
@@ -203,6 +205,7 @@ struct Disc {
   double young = 1e8, poisson = 0.3, size = 0.01;
   std::string kind = "coulomb";
   double mu = 0.3;
+  std::string method = "elimination";
 };
 
 std::string disc_on_floor(const Disc& d) {
@@ -214,7 +217,7 @@ std::string disc_on_floor(const Disc& d) {
          "\ndensity = 1000.0\n[body.mesh]\ngenerator = \"disc\"\nradius = 0.1\nsize = " + std::to_string(d.size) +
          "\n[[body]]\nname = \"floor\"\nrigid = true\n[body.mesh]\ngenerator = \"segment\"\nlx = 2.0\nsize = "
          "0.25\n[[contact]]\nslave = \"disc:circle\"\nmaster = \"floor:surface\"\nkind = \"" + d.kind + "\"\n" +
-         (d.kind == "coulomb" ? "friction = " + std::to_string(d.mu) + "\n" : "");
+         (d.kind == "coulomb" ? "friction = " + std::to_string(d.mu) + "\n" : "") + "method = \"" + d.method + "\"\n";
 }
 
 // A solid disc (R = 0.1 m, E = 1e8 Pa) thrown along a rigid plane at
@@ -300,23 +303,26 @@ TEST(Friction, DiscDroppedWhileSlidingTakesItsImpactWithoutCutback2d) {
 // μ = 0 is the frictionless run, step for step (negative control of the
 // friction itself: without it the block does not slow down).
 TEST(Friction, ZeroFrictionIsTheFrictionlessRun) {
-  ContactRun<2> coulomb(sliding_block(2, "coulomb", 0.0, "elimination", 0.05));
-  ContactRun<2> frictionless(sliding_block(2, "frictionless", 0.0, "elimination", 0.05));
-  while (coulomb.state.time < coulomb.scenario.time.end - 1e-9) {
-    coulomb.step();
-    frictionless.step();
+  for (const char* method : {"elimination", "penalty"}) {
+    ContactRun<2> coulomb(sliding_block(2, "coulomb", 0.0, method, 0.05));
+    ContactRun<2> frictionless(sliding_block(2, "frictionless", 0.0, method, 0.05));
+    while (coulomb.state.time < coulomb.scenario.time.end - 1e-9) {
+      coulomb.step();
+      frictionless.step();
+    }
+    EXPECT_EQ(coulomb.state.time, frictionless.state.time) << method;
+    const double scale = frictionless.state.v.norm();
+    EXPECT_LE((coulomb.state.v - frictionless.state.v).norm(), 1e-10 * scale) << method;
+    EXPECT_LE((coulomb.state.u - frictionless.state.u).norm(), 1e-10 * frictionless.state.u.norm()) << method;
+    EXPECT_NEAR(coulomb.diagnostics().body_linear[0](0), frictionless.diagnostics().body_linear[0](0), 1e-9)
+        << method;
+    EXPECT_EQ(coulomb.state.dissipated, 0.0) << method;
   }
-  EXPECT_EQ(coulomb.state.time, frictionless.state.time);
-  const double scale = frictionless.state.v.norm();
-  EXPECT_LE((coulomb.state.v - frictionless.state.v).norm(), 1e-10 * scale);
-  EXPECT_LE((coulomb.state.u - frictionless.state.u).norm(), 1e-10 * frictionless.state.u.norm());
-  EXPECT_NEAR(coulomb.diagnostics().body_linear[0](0), frictionless.diagnostics().body_linear[0](0), 1e-9);
-  EXPECT_EQ(coulomb.state.dissipated, 0.0);
 }
 
 /// A disc (R = 0.1 m) rolling without slip at 1 m/s on a rigid plane
 /// under gravity, its contact of `kind` (with friction μ for coulomb).
-std::string rolling_disc(const std::string& kind, double mu) {
+std::string rolling_disc(const std::string& kind, double mu, const std::string& method) {
   Disc disc;
   disc.end = 0.1;
   disc.spin = -10.0;
@@ -324,15 +330,19 @@ std::string rolling_disc(const std::string& kind, double mu) {
   disc.size = 0.02;
   disc.kind = kind;
   disc.mu = mu;
+  disc.method = method;
   return disc_on_floor(disc);
 }
 
 // A μ large enough that no slave's force leaves the cone is the stick
 // run: slaves arriving at rest on the plane (rolling) stick, as the stick
-// kind's do, and stay stuck.
+// kind's do, and stay stuck. (Not with the penalty: there a slave caught
+// in a step that it ends in front of the plane has no normal force, so
+// Coulomb's spring slips for any μ while the stick kind's holds it, and
+// the runs part, 3e-4 apart after 0.1 s.)
 TEST(Friction, LargeFrictionOnARollingDiscIsTheStickRun) {
-  ContactRun<2> coulomb(rolling_disc("coulomb", 100.0));
-  ContactRun<2> stick(rolling_disc("stick", 0.0));
+  ContactRun<2> coulomb(rolling_disc("coulomb", 100.0, "elimination"));
+  ContactRun<2> stick(rolling_disc("stick", 0.0, "elimination"));
   int contacts = 0, slipping = 0;
   while (stick.state.time < stick.scenario.time.end - 1e-9) {
     coulomb.step();
@@ -417,7 +427,7 @@ Impact oblique_impact(const std::string& method) {
     const time::Diagnostics d = run.diagnostics();
     e_ref = std::max(e_ref, d.kinetic + d.strain);
     p_ref = std::max(p_ref, d.momentum_magnitude);
-    m.energy = std::max(m.energy, std::abs(d.total + d.dissipated - d0.total));
+    m.energy = std::max(m.energy, std::abs(d.total + d.dissipated + d.released - d0.total));
     m.linear = std::max(m.linear, (d.linear - d0.linear).norm());
     m.angular = std::max(m.angular, (d.angular - d0.angular).norm());
     m.monotone = m.monotone && d.dissipated >= last;
@@ -442,9 +452,9 @@ TEST(Friction, ObliqueImpactKeepsMomentaAndEnergyWithTheDissipation) {
   // The multipliers' Newton converges linearly with friction (their
   // tangent leaves out how the force direction turns with the slip): in
   // 2D only, where it reaches 1e-14.
-  for (const char* method : {"elimination", "lagrange"}) {
+  for (const char* method : {"elimination", "lagrange", "penalty"}) {
     std::vector<Impact> runs{oblique_impact<2>(method)};
-    if (std::string(method) == "elimination") runs.push_back(oblique_impact<3>(method));
+    if (std::string(method) != "lagrange") runs.push_back(oblique_impact<3>(method));
     for (const Impact& m : runs) {
       EXPECT_LT(m.energy, 2e-11) << method;
       EXPECT_LT(m.linear, 2e-11) << method;

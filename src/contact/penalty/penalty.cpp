@@ -119,6 +119,7 @@ std::vector<PenaltyCoupling> PenaltyMethod<D>::behind_at(const Eigen::VectorXd& 
         } else {  // caught where it was at the step's start, behind its facet
           if (!(m.projection.gap < 0.0)) return;
           c.stick = true;
+          c.friction = collisions_.pair(p).friction.value_or(c.friction);
           const Eigen::Matrix<double, D - 1, 1> xi = penalty::projected_xi<D>(nodes(c, x_n_));
           for (int i = 0; i + 1 < D; ++i) c.anchor[static_cast<std::size_t>(i)] = xi(i);
         }
@@ -222,6 +223,37 @@ double PenaltyMethod<D>::potential(const PenaltyCoupling& c, const Feature<D>& f
 }
 
 template <int D>
+bool PenaltyMethod<D>::move_anchor(PenaltyCoupling& c, const Positions<D>& x) const {
+  const ContactSurface& master = collisions_.pair(c.pair).master;
+  const Vec<D> x_s = x.col(c.slave);
+  if (project<D>(x_s, facet_nodes<D>(master, c.facet, x)).inside(kOnFace)) return false;
+  for (int g : around(c.pair, c.facet)) {
+    const FacetNodes<D> xg = facet_nodes<D>(master, g, x);
+    const Projection<D> pr = project<D>(x_s, xg);
+    if (g == c.facet || !pr.inside(0.0) || !(pr.gap < 0.0)) continue;
+    // The spring's stretch A (ξ − ξ₀) on the old facet, turned into the
+    // new one's plane at its length.
+    const Eigen::Matrix<double, D, D + 1> y = nodes(c, x);
+    const Eigen::Matrix<double, D, D> V = penalty::relative_vectors<D, double>(y);
+    Eigen::Matrix<double, D - 1, 1> xi0;
+    for (int i = 0; i + 1 < D; ++i) xi0(i) = c.anchor[static_cast<std::size_t>(i)];
+    const Vec<D> stretch = V.template leftCols<D - 1>() * (penalty::projected_xi<D>(y) - xi0);
+    Vec<D> turned = stretch - stretch.dot(pr.normal) * pr.normal;
+    if (turned.norm() > 0.0) turned *= stretch.norm() / turned.norm();
+    PenaltyCoupling moved = c;
+    moved.facet = g;
+    const Eigen::Matrix<double, D, D + 1> y_g = nodes(moved, x);
+    const Eigen::Matrix<double, D, D - 1> A = penalty::relative_vectors<D, double>(y_g).template leftCols<D - 1>();
+    const Eigen::Matrix<double, D - 1, 1> anchor =
+        penalty::projected_xi<D>(y_g) - (A.transpose() * A).ldlt().solve(A.transpose() * turned);
+    for (int i = 0; i + 1 < D; ++i) moved.anchor[static_cast<std::size_t>(i)] = anchor(i);
+    c = moved;
+    return true;
+  }
+  return false;
+}
+
+template <int D>
 StepPlan<D> PenaltyMethod<D>::plan(const PenaltyCoupling& c, const Positions<D>& x_n, const Positions<D>& x) const {
   StepPlan<D> plan;
   const AnchorOf<D> anchor(c);
@@ -301,9 +333,9 @@ void PenaltyMethod<D>::add_force(const std::vector<PenaltyCoupling>& couplings, 
         penalty::CouplingNodes<D, Ad> y_ad;
         for (int a = 0; a <= D; ++a)
           for (int i = 0; i < D; ++i) y_ad(i, a) = Ad(y(i, a), N, a * D + i);
-        add_derivatives(penalty::penalty_force<D, Ad>(y_n, y_ad, c.k, conserving_, anchor.ptr));
+        add_derivatives(penalty::penalty_force<D, Ad>(y_n, y_ad, c.k, conserving_, anchor.ptr, c.friction));
       } else {
-        f = penalty::penalty_force<D, double>(y_n, y, c.k, conserving_, anchor.ptr);
+        f = penalty::penalty_force<D, double>(y_n, y, c.k, conserving_, anchor.ptr, c.friction);
       }
     } else {
       // The nearest part changes in the step: the switching discrete
@@ -514,7 +546,8 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
   const auto was_behind = [&](int slave) {
     return std::any_of(end_.begin(), end_.end(), [&](const PenaltyCoupling& o) { return o.slave == slave; });
   };
-  double released = 0.0;
+  double released = 0.0, dissipated = 0.0;
+  int sticking = 0, slipping = 0;
   for (PenaltyCoupling c : pairing_) {
     const StepPlan<D> step = plan(c, x_n_, x);
     // A slave coupled in this step that started it behind the master
@@ -523,11 +556,29 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
     double normal = 0.0, energy = 0.0;
     Vec<D> direction;
     if (c.stick) {
-      const Eigen::Matrix<double, D, D + 1> y = nodes(c, x);
+      if (std::isfinite(c.friction)) {  // Coulomb: where the step's return map left the anchor
+        penalty::CoulombStep<D, double> slip;
+        penalty::penalty_force<D, double>(nodes(c, x_n_), nodes(c, x), c.k, conserving_, AnchorOf<D>(c).ptr,
+                                          c.friction, &slip);
+        for (int i = 0; i + 1 < D; ++i) c.anchor[static_cast<std::size_t>(i)] = slip.anchor(i);
+        c.slipped = slip.slips;
+        dissipated += slip.dissipated;
+      }
+      Eigen::Matrix<double, D, D + 1> y = nodes(c, x);
       normal = penalty::penalty_energy<D>(y, c.k);
       energy = penalty::penalty_energy<D>(y, c.k, AnchorOf<D>(c).ptr);
+      if (!(normal > 0.0)) {
+        released += energy;  // in front: let go, with the spring's energy
+      } else if (std::isfinite(c.friction) && move_anchor(c, x)) {
+        // Slipped off its facet: on the next, the spring's energy kept, the
+        // normal potential's change counted.
+        y = nodes(c, x);
+        const double moved = penalty::penalty_energy<D>(y, c.k, AnchorOf<D>(c).ptr);
+        released += energy - moved;
+        energy = moved;
+        normal = penalty::penalty_energy<D>(y, c.k);
+      }
       direction = facet_normal<D>(y.template rightCols<D>());
-      if (!(normal > 0.0)) released += energy;  // in front: let go, with the spring's energy
     } else {
       normal = energy = potential(c, step.end, x);
       // The next step measures its start around this facet: if a part
@@ -547,6 +598,7 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
       continue;
     }
     activations += !was_behind(c.slave);
+    if (std::isfinite(c.friction)) ++(c.slipped ? slipping : sticking);
     stored_ += energy;
     end.push_back(c);
     const double gap = -std::sqrt(2.0 * normal / c.k);
@@ -564,7 +616,7 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
                        .normal = c.k * -gap,
                        .direction = direction,
                        .pair = c.pair,
-                       .sticks = c.stick,
+                       .sticks = c.stick && !c.slipped,
                        .force = force,
                        .moment = moment_of<D>(x.col(c.slave), force),
                        .work = force.dot(moved)});
@@ -572,6 +624,9 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
   stats.releases = releases;
   stats.activations = activations;
   stats.contact_released = released;
+  stats.dissipated = dissipated;
+  stats.sticking = sticking;
+  stats.slipping = slipping;
   end_ = std::move(end);
   stats.contact_energy = stored_;
   stats.min_active_gap = min_gap;
@@ -597,7 +652,7 @@ std::string PenaltyMethod<D>::save() const {
     w.value(static_cast<std::int32_t>(c.slave));
     w.value(static_cast<std::int32_t>(c.facet));
     w.value(c.k);
-    w.value(static_cast<std::int32_t>(c.stick));
+    w.value(static_cast<std::int32_t>(c.stick ? (c.slipped ? 2 : 1) : 0));
     w.doubles(c.anchor.data(), c.anchor.size());
   }
   w.value(static_cast<std::uint64_t>(forces_.size()));
@@ -626,23 +681,26 @@ void PenaltyMethod<D>::load(const std::string& bytes, const std::string& what) {
     c.k = r.value<double>();
     const auto stick = r.value<std::int32_t>();
     r.doubles(c.anchor.data(), c.anchor.size(), "a stick spring's anchor");
-    c.stick = stick == 1;
-    if ((stick != 0 && stick != 1) || c.pair < 0 || c.pair >= collisions_.size() || c.facet < 0 ||
+    c.stick = stick != 0;
+    c.slipped = stick == 2;
+    if ((stick < 0 || stick > 2) || c.pair < 0 || c.pair >= collisions_.size() || c.facet < 0 ||
         c.facet >= collisions_.pair(c.pair).master.num_facets() || c.slave < 0 || c.slave >= model_.num_nodes())
       r.fail("a penalty coupling is malformed (a pair, facet or node out of range)");
+    if (c.stick) c.friction = collisions_.pair(c.pair).friction.value_or(c.friction);
     end.push_back(c);
   }
   const auto forces = r.value<std::uint64_t>();
   if (forces != count) r.fail("a penalty force is missing");
   std::vector<ContactForce<D>> f(forces);
-  for (ContactForce<D>& x : f) {
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    ContactForce<D>& x = f[i];
     x.slave = r.value<std::int32_t>();
     x.normal = r.value<double>();
     r.doubles(x.direction.data(), D, "a penalty force's direction");
     x.pair = r.value<std::int32_t>();
     r.doubles(x.force.data(), D, "a penalty force");
     if (x.pair < 0 || x.pair >= collisions_.size()) r.fail("a penalty force's pair is out of range");
-    x.sticks = collisions_.pairs()[static_cast<std::size_t>(x.pair)].kind == Kind::stick;
+    x.sticks = end[i].stick && !end[i].slipped;
   }
   if (!r.at_end()) r.fail("trailing bytes after the penalty couplings");
   stored_ = stored;

@@ -8,7 +8,10 @@
 /// contact_released) when the slave ends a step in front of the facet.
 /// With the discrete-gradient force the mid-point scheme conserves the
 /// total energy including the springs' (reported as contact_energy), L and
-/// J; the slave penetrates by about its pressure / ε.
+/// J; the slave penetrates by about its pressure / ε. With kind =
+/// "coulomb" the spring's anchor slips by a return map when the spring's
+/// force would leave the Coulomb cone (penalty_force.hpp), and the work
+/// the friction takes out is reported as dissipated: E_{n+1} + D = E_n.
 ///
 /// Within a step each coupled slave has one facet at the step's end (the
 /// step's pairing): the slaves the last step ended coupled and those behind
@@ -21,6 +24,7 @@
 /// is the bodies' with the blocks of every slave–facet coupling met so
 /// far: it grows when a new one appears and is otherwise kept.
 #include <array>
+#include <limits>
 #include <map>
 #include <memory>
 #include <vector>
@@ -39,8 +43,12 @@ struct PenaltyCoupling {
   /// The facet around which its potential at the step's start is measured
   /// (the last step ended on it), −1 if the slave was not coupled then.
   int start_facet = -1;
-  bool stick = false;
-  std::array<double, 2> anchor{};  ///< stick: ξ₀ (D − 1 entries)
+  bool stick = false;               ///< held by a spring to its anchor (stick, or Coulomb with μ > 0)
+  std::array<double, 2> anchor{};  ///< ξ₀ (D − 1 entries): where the spring is tied on the facet
+  /// Coulomb's μ: the anchor slips when the spring's force leaves the cone
+  /// (infinite: stick).
+  double friction = std::numeric_limits<double>::infinity();
+  bool slipped = false;  ///< Coulomb: the anchor slipped in the last step
 };
 
 /// The part of a master surface nearest to a slave (penalty_force.hpp).
@@ -125,6 +133,11 @@ class PenaltyMethod final : public Method<D> {
   [[nodiscard]] Feature<D> nearest(int p, int s, int f, const Positions<D>& x) const;
   /// A frictionless coupling's potential on `feature` at x [J].
   [[nodiscard]] double potential(const PenaltyCoupling& c, const Feature<D>& feature, const Positions<D>& x) const;
+  /// A Coulomb coupling whose slave's projection left its facet at x: to
+  /// the facet around it that holds the projection, its spring's anchor
+  /// placed so that the spring keeps its length and direction in the
+  /// new facet's plane (its energy). False if none holds it.
+  bool move_anchor(PenaltyCoupling& c, const Positions<D>& x) const;
   /// How coupling c is evaluated over the step x_n → x.
   [[nodiscard]] StepPlan<D> plan(const PenaltyCoupling& c, const Positions<D>& x_n, const Positions<D>& x) const;
 

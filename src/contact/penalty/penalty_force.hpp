@@ -130,8 +130,9 @@ using Anchor = const Eigen::Matrix<double, D - 1, 1>*;
 
 /// Φ(ĝ, G_a, c) = ½ k ⟨−ĝ⟩² / det G_a (+ Φ_t with an anchor) and, if
 /// `d` is given, its derivatives by the invariants (in d's fields).
-template <int D, class T>
-T potential(const Invariants<D, T>& p, double k, Anchor<D> anchor = nullptr, Invariants<D, T>* d = nullptr) {
+template <int D, class T, class A = double>
+T potential(const Invariants<D, T>& p, double k, const Eigen::Matrix<A, D - 1, 1>* anchor = nullptr,
+            Invariants<D, T>* d = nullptr) {
   using Metric = Eigen::Matrix<T, D - 1, D - 1>;
   Metric cof;
   const T det = metric_determinant<D, T>(p.metric, cof);
@@ -234,60 +235,170 @@ CouplingNodes<D, T> node_forces(const Invariants<D, T>& d, const Eigen::Matrix<T
   return f;
 }
 
+/// A Coulomb spring's step (penalty_force with a finite μ): the anchor it
+/// ends with and the friction's work D ≥ 0 over the anchor's slip [J].
+template <int D, class T>
+struct CoulombStep {
+  Eigen::Matrix<T, D - 1, 1> anchor;
+  T dissipated = T(0);
+  bool slips = false;
+};
+
+/// The Coulomb return map of a spring anchored at ξ₀ⁿ over the step with
+/// mid-point invariants p_m: with ξ_m = G_m⁻¹ c_m and τ = ξ_m − ξ₀ⁿ, the
+/// spring's mid-point stretch |ξ_m − ξ₀,m|_G (ξ₀,m = ½(ξ₀ⁿ + ξ₀ⁿ⁺¹),
+/// |v|²_G = vᵀ G_m v) may not exceed `limit` = μ f_N / k, f_N the step's
+/// normal force: inside, the anchor stays; outside it slips along τ by
+/// λ = 2(|τ|_G − limit), which leaves the mid-point stretch at the limit:
+/// |f_T| = μ f_N. `slip` gets λ · limit (the friction's work over k).
+template <int D, class T>
+Eigen::Matrix<T, D - 1, 1> coulomb_anchor(const Invariants<D, T>& p_m, const Eigen::Matrix<double, D - 1, 1>& a_n,
+                                          const T& limit, bool& slips, T& slip) {
+  Eigen::Matrix<T, D - 1, D - 1> cof;
+  const T det = metric_determinant<D, T>(p_m.metric, cof);
+  const Eigen::Matrix<T, D - 1, 1> tau = (cof.transpose() / det) * p_m.along - a_n.template cast<T>();
+  const T stretch2 = tau.dot(p_m.metric * tau);
+  slips = value_of(stretch2) > value_of(limit * limit);
+  slip = T(0);
+  if (!slips) return a_n.template cast<T>();
+  const T stretch = sqrt_of(stretch2);
+  const T lambda = T(2) * (stretch - limit);
+  slip = lambda * limit;
+  return a_n.template cast<T>() + tau * (lambda / stretch);
+}
+
+/// Gonzalez's correction of mid-point derivatives d of a potential by the
+/// residual r = Φ₁ − Φₙ − (d·Δπ) over the step Δπ of the invariants, along
+/// the invariants weighted by w (gap, metric, along): d + r w Δπ / |Δπ|²_w,
+/// dropped while r is within `noise` (its round-off). False if Δπ = 0.
+template <int D, class T>
+bool correct(Invariants<D, T>& d, const Invariants<D, T>& dp, const T& r, double noise, double w_gap,
+             double w_metric, double w_along) {
+  T den = T(w_metric) * dp.metric.squaredNorm();
+  if (w_gap > 0.0) den += T(w_gap) * dp.gap * dp.gap;
+  if (w_along > 0.0) den += T(w_along) * dp.along.squaredNorm();
+  if (!(value_of(den) > 0.0)) return false;
+  if (!(std::abs(value_of(r)) > noise)) return true;
+  if (w_gap > 0.0) d.gap += (r * T(w_gap) / den) * dp.gap;
+  d.metric += (r * T(w_metric) / den) * dp.metric;
+  if (w_along > 0.0) d.along += (r * T(w_along) / den) * dp.along;
+  return true;
+}
+
 /// ∂Φ/∂y over the step y_n → y_np1 (columns as y) [N]: the discrete
 /// gradient if `conserving`, else the mid-point gradient. T is double or
 /// an automatic-differentiation scalar (the tangent).
+///
+/// Φ = Φ_N(ĝ, G_a) + Φ_t(G_a, c; ξ₀), each corrected along its own
+/// invariants (the gap's residual of a step across ĝ = 0 put along c
+/// would be a tangential force). With a finite μ the spring is a
+/// Coulomb one (kind = "coulomb"; in the manner of Armero & Petőcz 1998,
+/// CMAME 158:269, in these invariants): its anchor moves in the step by
+/// the return map (coulomb_anchor) against the step's normal force, from
+/// ξ₀ⁿ to ξ₀ⁿ⁺¹, and the discrete gradient of Φ_t splits
+///   Φ_t(π₁, ξ₀ⁿ⁺¹) − Φ_t(πₙ, ξ₀ⁿ) = ∂̄Φ_t/∂π · Δπ + ∂Φ_t/∂ξ₀|_m · Δξ₀,
+/// the correction on π alone: the force (from ∂̄Φ/∂π, as above: no
+/// resultant, no moment) does the first term's work and
+///   D = −∂Φ_t/∂ξ₀|_m · Δξ₀ = k λ · limit ≥ 0
+/// is the friction's (`coulomb`), so that E_{n+1} + D = E_n.
 template <int D, class T>
 CouplingNodes<D, T> penalty_force(const CouplingNodes<D, double>& y_n, const CouplingNodes<D, T>& y_np1, double k,
-                                  bool conserving, Anchor<D> anchor = nullptr) {
+                                  bool conserving, Anchor<D> anchor = nullptr,
+                                  double mu = std::numeric_limits<double>::infinity(),
+                                  CoulombStep<D, T>* coulomb = nullptr) {
   using Mat = Eigen::Matrix<T, D, D>;
+  using XiT = Eigen::Matrix<T, D - 1, 1>;
+  using Xi0 = Eigen::Matrix<double, D - 1, 1>;
   const Mat V_n = relative_vectors<D, double>(y_n).template cast<T>();
   const Mat V_1 = relative_vectors<D, T>(y_np1);
   const Mat V_mid = T(0.5) * (V_n + V_1);
+  const Mat gap_gradient = scaled_gap_gradient<D, T>(V_mid);
+  const Invariants<D, T> p_n = invariants<D, T>(V_n), p_1 = invariants<D, T>(V_1);
+  // The derivatives are taken at the mean invariants (the discrete
+  // gradient) or at y_{n+½}'s (the mid-point force).
+  const Invariants<D, T> p_mid = conserving ? (p_n + p_1) * T(0.5) : invariants<D, T>(V_mid), dp = p_1 - p_n;
+  const bool sliding = anchor && std::isfinite(mu);
+  // |Δπ|² with each invariant scaled by the facet's size ℓ (ℓ² = tr G_a
+  // at the start), so that none dominates by its unit.
+  const double l2 = value_of(p_n.metric.trace());
+  const double w_gap = 1.0 / std::pow(l2, D - 1), w_metric = 1.0 / (l2 * l2);
+  const double eps16 = 16.0 * std::numeric_limits<double>::epsilon();
+
+  // The gap's part.
   Invariants<D, T> d;
-  Mat gap_gradient = scaled_gap_gradient<D, T>(V_mid);
   if (!conserving) {
-    potential<D, T>(invariants<D, T>(V_mid), k, anchor, &d);
+    potential<D, T>(p_mid, k, static_cast<const Xi0*>(nullptr), &d);
   } else {
-    const Invariants<D, T> p_n = invariants<D, T>(V_n), p_1 = invariants<D, T>(V_1);
     if (!anchor && !(p_n.gap < T(0)) && !(p_1.gap < T(0))) return CouplingNodes<D, T>::Zero();
-    const Invariants<D, T> p_mid = (p_n + p_1) * T(0.5), dp = p_1 - p_n;
-    const T phi_n = potential<D, T>(p_n, k, anchor), phi_1 = potential<D, T>(p_1, k, anchor);
-    potential<D, T>(p_mid, k, anchor, &d);
-    const T r = phi_1 - phi_n - d.gap * dp.gap - d.metric.cwiseProduct(dp.metric).sum() - d.along.dot(dp.along);
-    // |Δπ|² with each invariant scaled by the facet's size ℓ (ℓ² = tr G_a
-    // at the start), so that none dominates by its unit.
-    const double l2 = value_of(p_n.metric.trace());
-    const double w_gap = 1.0 / std::pow(l2, D - 1), w_metric = 1.0 / (l2 * l2);
-    // Φ depends on c only through a stick spring: frictionless, c takes no
-    // part (its correction would be a tangential force).
-    const double w_along = anchor ? w_metric : 0.0;
-    const T den = T(w_gap) * dp.gap * dp.gap + T(w_metric) * dp.metric.squaredNorm() + T(w_along) * dp.along.squaredNorm();
+    const T phi_n = potential<D, T>(p_n, k), phi_1 = potential<D, T>(p_1, k);
+    potential<D, T>(p_mid, k, static_cast<const Xi0*>(nullptr), &d);
+    const T r = phi_1 - phi_n - d.gap * dp.gap - d.metric.cwiseProduct(dp.metric).sum();
     // r's round-off (as in fem/discrete_gradient.hpp, the correction is
     // dropped within it).
-    const double noise = 16.0 * std::numeric_limits<double>::epsilon() *
-                         (std::abs(value_of(phi_n)) + std::abs(value_of(phi_1)) +
-                          std::abs(value_of(d.gap * p_mid.gap)) +
-                          std::sqrt(value_of(d.metric.squaredNorm()) * value_of(p_mid.metric.squaredNorm())) +
-                          std::sqrt(value_of(d.along.squaredNorm()) * value_of(p_mid.along.squaredNorm())));
-    if (value_of(den) > 0.0 && std::abs(value_of(r)) > noise) {
-      d.gap += (r * T(w_gap) / den) * dp.gap;
-      d.metric += (r * T(w_metric) / den) * dp.metric;
-      d.along += (r * T(w_along) / den) * dp.along;
+    const double noise =
+        eps16 * (std::abs(value_of(phi_n)) + std::abs(value_of(phi_1)) + std::abs(value_of(d.gap * p_mid.gap)) +
+                 std::sqrt(value_of(d.metric.squaredNorm()) * value_of(p_mid.metric.squaredNorm())));
+    correct<D, T>(d, dp, r, noise, w_gap, w_metric, 0.0);
+  }
+
+  // The spring's part.
+  if (anchor) {
+    XiT a_n = anchor->template cast<T>(), a_1 = a_n;
+    bool slips = false;
+    T slip(0);
+    if (sliding) {
+      // The step's normal force over k, as a gap: ⟨−∂̄Φ_N/∂ĝ⟩ √det G_m / k.
+      Eigen::Matrix<T, D - 1, D - 1> cof;
+      const T root = sqrt_of(metric_determinant<D, T>(p_mid.metric, cof));
+      const T limit = d.gap < T(0) ? d.gap * (-mu / k) * root : T(0);
+      a_1 = coulomb_anchor<D, T>(p_mid, *anchor, limit, slips, slip);
     }
-    if constexpr (D == 3) {
+    const XiT a_mid = T(0.5) * (a_n + a_1);
+    // ∂Φ_t/∂ξ₀|_m · Δξ₀ = −k (ξ_m − ξ₀,m)ᵀ G_m Δξ₀ = −k λ · limit (the
+    // return map makes ξ_m − ξ₀,m parallel to Δξ₀, at the limit's
+    // length): in this form D ≥ 0 without round-off, which r takes.
+    const T anchor_work = slip * -k;
+    Invariants<D, T> s;
+    const auto no_gap = [](Invariants<D, T> p) {
+      p.gap = T(0);
+      return p;
+    };
+    potential<D, T, T>(no_gap(p_mid), k, &a_mid, &s);
+    T dissipated = -anchor_work;
+    if (conserving) {
+      const T phi_n = potential<D, T, T>(no_gap(p_n), k, &a_n), phi_1 = potential<D, T, T>(no_gap(p_1), k, &a_1);
+      const T r = phi_1 - phi_n - s.metric.cwiseProduct(dp.metric).sum() - s.along.dot(dp.along) - anchor_work;
+      const double noise =
+          eps16 * (std::abs(value_of(phi_n)) + std::abs(value_of(phi_1)) +
+                   std::sqrt(value_of(s.metric.squaredNorm()) * value_of(p_mid.metric.squaredNorm())) +
+                   std::sqrt(value_of(s.along.squaredNorm()) * value_of(p_mid.along.squaredNorm())));
+      // The slave still on its facet while the anchor slips toward it:
+      // what r holds is the anchor's.
+      if (!correct<D, T>(s, dp, r, noise, 0.0, w_metric, w_metric) && slips) dissipated -= r;
+    }
+    d.metric += s.metric;
+    d.along = s.along;
+    if (coulomb) {
+      coulomb->anchor = a_1;
+      coulomb->dissipated = dissipated;
+      coulomb->slips = slips;
+    }
+  } else {
+    d.along.setZero();
+  }
+  CouplingNodes<D, T> f = node_forces<D, T>(d, V_mid, gap_gradient);
+  if constexpr (D == 3) {
+    if (conserving) {
       // Δĝ = ∇ĝ(V_{n+½})·ΔV + ¼ ĝ(ΔV) (ĝ trilinear): the last term's work
       // is done along the step's non-rigid part, which has no moment.
-      CouplingNodes<D, T> f = node_forces<D, T>(d, V_mid, gap_gradient);
       const T cubic = T(0.25) * scaled_gap<D, T>(Mat(V_1 - V_n));
       const StepNodes<T, D> y_1 = y_np1, y_0 = y_n.template cast<T>();
       const StepNodes<T, D> step = non_rigid<D, T>(StepNodes<T, D>(T(0.5) * (y_1 + y_0)), StepNodes<T, D>(y_1 - y_0));
       const T den = step.squaredNorm();
       if (value_of(den) > 0.0 && value_of(cubic) != 0.0) f += (d.gap * cubic / den) * step;
-      return f;
     }
   }
-  return node_forces<D, T>(d, V_mid, gap_gradient);
+  return f;
 }
 
 /// ∂Φ/∂y at nodes y (Φ's plain gradient).
