@@ -119,7 +119,6 @@ std::vector<PenaltyCoupling> PenaltyMethod<D>::behind_at(const Eigen::VectorXd& 
         } else {  // caught where it was at the step's start, behind its facet
           if (!(m.projection.gap < 0.0)) return;
           c.stick = true;
-          c.friction = collisions_.pair(p).friction.value_or(c.friction);
           const Eigen::Matrix<double, D - 1, 1> xi = penalty::projected_xi<D>(nodes(c, x_n_));
           for (int i = 0; i + 1 < D; ++i) c.anchor[static_cast<std::size_t>(i)] = xi(i);
         }
@@ -333,9 +332,9 @@ void PenaltyMethod<D>::add_force(const std::vector<PenaltyCoupling>& couplings, 
         penalty::CouplingNodes<D, Ad> y_ad;
         for (int a = 0; a <= D; ++a)
           for (int i = 0; i < D; ++i) y_ad(i, a) = Ad(y(i, a), N, a * D + i);
-        add_derivatives(penalty::penalty_force<D, Ad>(y_n, y_ad, c.k, conserving_, anchor.ptr, c.friction));
+        add_derivatives(penalty::penalty_force<D, Ad>(y_n, y_ad, c.k, conserving_, anchor.ptr, friction(c)));
       } else {
-        f = penalty::penalty_force<D, double>(y_n, y, c.k, conserving_, anchor.ptr, c.friction);
+        f = penalty::penalty_force<D, double>(y_n, y, c.k, conserving_, anchor.ptr, friction(c));
       }
     } else {
       // The nearest part changes in the step: the switching discrete
@@ -556,10 +555,10 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
     double normal = 0.0, energy = 0.0;
     Vec<D> direction;
     if (c.stick) {
-      if (std::isfinite(c.friction)) {  // Coulomb: where the step's return map left the anchor
+      if (std::isfinite(friction(c))) {  // Coulomb: where the step's return map left the anchor
         penalty::CoulombStep<D, double> slip;
         penalty::penalty_force<D, double>(nodes(c, x_n_), nodes(c, x), c.k, conserving_, AnchorOf<D>(c).ptr,
-                                          c.friction, &slip);
+                                          friction(c), &slip);
         for (int i = 0; i + 1 < D; ++i) c.anchor[static_cast<std::size_t>(i)] = slip.anchor(i);
         c.slipped = slip.slips;
         dissipated += slip.dissipated;
@@ -569,7 +568,7 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
       energy = penalty::penalty_energy<D>(y, c.k, AnchorOf<D>(c).ptr);
       if (!(normal > 0.0)) {
         released += energy;  // in front: let go, with the spring's energy
-      } else if (std::isfinite(c.friction) && move_anchor(c, x)) {
+      } else if (std::isfinite(friction(c)) && move_anchor(c, x)) {
         // Slipped off its facet: on the next, the spring's energy kept, the
         // normal potential's change counted.
         y = nodes(c, x);
@@ -598,7 +597,7 @@ void PenaltyMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::Vect
       continue;
     }
     activations += !was_behind(c.slave);
-    if (std::isfinite(c.friction)) ++(c.slipped ? slipping : sticking);
+    if (c.stick && std::isfinite(friction(c))) ++(c.slipped ? slipping : sticking);
     stored_ += energy;
     end.push_back(c);
     const double gap = -std::sqrt(2.0 * normal / c.k);
@@ -686,7 +685,6 @@ void PenaltyMethod<D>::load(const std::string& bytes, const std::string& what) {
     if ((stick < 0 || stick > 2) || c.pair < 0 || c.pair >= collisions_.size() || c.facet < 0 ||
         c.facet >= collisions_.pair(c.pair).master.num_facets() || c.slave < 0 || c.slave >= model_.num_nodes())
       r.fail("a penalty coupling is malformed (a pair, facet or node out of range)");
-    if (c.stick) c.friction = collisions_.pair(c.pair).friction.value_or(c.friction);
     end.push_back(c);
   }
   const auto forces = r.value<std::uint64_t>();

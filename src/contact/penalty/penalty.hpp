@@ -45,9 +45,6 @@ struct PenaltyCoupling {
   int start_facet = -1;
   bool stick = false;               ///< held by a spring to its anchor (stick, or Coulomb with μ > 0)
   std::array<double, 2> anchor{};  ///< ξ₀ (D − 1 entries): where the spring is tied on the facet
-  /// Coulomb's μ: the anchor slips when the spring's force leaves the cone
-  /// (infinite: stick).
-  double friction = std::numeric_limits<double>::infinity();
   bool slipped = false;  ///< Coulomb: the anchor slipped in the last step
 };
 
@@ -131,6 +128,11 @@ class PenaltyMethod final : public Method<D> {
   [[nodiscard]] std::vector<int> around(int p, int f) const;
   /// The part of pair p's master nearest to slave s at x among around(p, f).
   [[nodiscard]] Feature<D> nearest(int p, int s, int f, const Positions<D>& x) const;
+  /// Coulomb's μ of a spring's pair: its anchor slips when the spring's
+  /// force leaves the cone (infinite: a stick spring, or none).
+  [[nodiscard]] double friction(const PenaltyCoupling& c) const {
+    return collisions_.pair(c.pair).friction.value_or(std::numeric_limits<double>::infinity());
+  }
   /// A frictionless coupling's potential on `feature` at x [J].
   [[nodiscard]] double potential(const PenaltyCoupling& c, const Feature<D>& feature, const Positions<D>& x) const;
   /// A Coulomb coupling whose slave's projection left its facet at x: to
