@@ -94,14 +94,19 @@ void print_summary(const RunSummary& s) {
   if (s.cutbacks > 0)
     fmt::print("cutbacks: {} failed steps retried with a halved time step (smallest {:.3e} s), see steps.csv\n",
                s.cutbacks, s.min_dt);
-  if (s.statistic("activations") + s.statistic("releases") > 0)
+  if (s.statistic("activations") + s.statistic("releases") > 0) {
+    // The held methods' own statistics (contact/elimination/held_statistics.hpp), where the method has them.
+    const std::string held = s.statistics.has("held")
+                                 ? fmt::format(" ({} held after a release), largest gap at activation {:.3e} m",
+                                               s.statistic("held"), s.statistic("max_activation_gap"))
+                                 : std::string();
     fmt::print(
-        "contact: {} activations, {} releases ({} held after a release), largest gap at activation {:.3e} m; "
-        "active gaps {:.3e} to {:.3e} m; deepest penetration {:.3e} m (slave nodes behind master facets {:.3e} m, "
-        "master nodes behind slave facets {:.3e} m)\n",
-        s.statistic("activations"), s.statistic("releases"), s.statistic("held"), s.statistic("max_activation_gap"),
-        s.statistic("min_active_gap"), s.statistic("max_active_gap"), s.statistic("max_penetration"),
-        s.statistic("slave_penetration"), s.statistic("master_penetration"));
+        "contact: {} activations, {} releases{}; active gaps {:.3e} to {:.3e} m; deepest penetration {:.3e} m "
+        "(slave nodes behind master facets {:.3e} m, master nodes behind slave facets {:.3e} m)\n",
+        s.statistic("activations"), s.statistic("releases"), held, s.statistic("min_active_gap"),
+        s.statistic("max_active_gap"), s.statistic("max_penetration"), s.statistic("slave_penetration"),
+        s.statistic("master_penetration"));
+  }
   if (s.statistic("dissipated") > 0)
     fmt::print("friction: {:.6g} J dissipated (history.csv's dissipated; total + dissipated is what is conserved)\n",
                s.statistic("dissipated"));
@@ -111,21 +116,21 @@ void print_summary(const RunSummary& s) {
         "each); a larger [active_set] gap_tolerance or cluster_tolerance, or scheme = \"paper\", takes fewer "
         "steps with the same conservation, at larger gaps held at activation\n",
         s.statistic("impact_splits"), s.steps);
-  if (s.statistic("velocity_update_failures") > 0)
+  if (s.statistic_or_zero("velocity_update_failures") > 0)
     fmt::print(
         "contact: in {} step(s) the persistent-contact velocity update failed (its constraints' system singular, "
         "its velocities not finite, or the energy it removes more than the bodies' motion could take back) and "
         "the step kept the mid-point velocity (19), whose relative velocity at the active slaves reverses "
         "(chatter); E, L and J are kept either way. history.csv's velocity_update_failures says when.\n",
-        s.statistic("velocity_update_failures"));
-  if (s.statistic("pushes_given_up") > 0)
+        s.statistic_or_zero("velocity_update_failures"));
+  if (s.statistic_or_zero("pushes_given_up") > 0)
     fmt::print(
         "contact: {} push-out(s) given up: slaves found behind their master facet further than the step's motion "
         "could carry them out, and the work of pushing them out more than the bodies' vibration could give back, "
         "were held where they were (down to {:.3e} m; history.csv's pushes_given_up says when). Such slaves came "
         "in behind the master surface beyond its border or through a face that is not part of it: if that face "
         "should stop them, add it to the master surface.\n",
-        s.statistic("pushes_given_up"), s.statistic("min_active_gap"));
+        s.statistic_or_zero("pushes_given_up"), s.statistic("min_active_gap"));
   fmt::print("output: {}/history.csv, {}/solution.pvd", s.output_directory.string(), s.output_directory.string());
   if (s.vtu_frames > 0)
     fmt::print(" ({} VTU frames, {:.1f} MB, {:.0f} kB a frame)", s.vtu_frames, static_cast<double>(s.vtu_bytes) / 1e6,

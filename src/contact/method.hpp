@@ -12,40 +12,35 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "contact/collision_set.hpp"
+#include "core/statistic.hpp"
 #include "core/types.hpp"
 #include "io/scenario.hpp"
 #include "model/state.hpp"
 
 namespace conserve::contact {
 
-/// What a velocity update after the step did (persistent contact).
-struct VelocityUpdate {
-  bool applied = false;       ///< false: V* kept (nothing to remove, or the update failed)
-  double removed = 0.0;       ///< largest relative velocity of an active slave removed [m/s]
-  double energy_moved = 0.0;  ///< K* − K_p, the kinetic energy given back [J]
-  /// Why the update failed and V* was kept although the slaves moved
-  /// relative to their facets (nullptr: it did not fail).
-  const char* failure = nullptr;
+/// A statistic a method reports besides StepContactStats' common ones,
+/// declared by the method (Method::statistics): its history.csv column
+/// (empty: summary.json only) and its run values; its value for a step is
+/// the matching entry of StepContactStats::own.
+struct MethodStatistic {
+  std::string_view column;
+  std::vector<RunValue> summary = {};
 };
 
-/// What contact did during one step, and its geometry at the step's end.
-/// The counters a method has no use for stay 0.
+/// What contact did during one step, and its geometry at the step's end:
+/// the figures every method reports (those it has no use for stay 0), and
+/// the values of the statistics it declares for itself.
 struct StepContactStats {
   int passes = 0;  ///< solves of the step
   int activations = 0;
   int releases = 0;
-  int held = 0;  ///< released slaves re-activated (and kept) in the step
-  /// Releases of slaves activated within the last kChatterWindow steps.
-  int chatter = 0;
-  /// Releases of slaves whose force at the end of the previous step was
-  /// above kLoadedFraction of the mean force of the active slaves then.
-  int loaded_releases = 0;
-  VelocityUpdate velocity;  ///< the persistent-contact velocity update after the step
   /// < 1: the step met an impact and was not taken; end it at this
   /// fraction of its length instead (Method::settle says split).
   double split_fraction = 1.0;
@@ -53,17 +48,6 @@ struct StepContactStats {
   /// solves (passes) they took (set by the stepper).
   int splits = 0;
   int split_passes = 0;
-  /// Frictionless constraints that held the paper's rate condition (48).
-  int rate_steps = 0;
-  /// Slaves pushed out from behind their facet by the paper's force, and
-  /// the work of that force [J] (taken back from the deformation velocity).
-  int pushes = 0;
-  double push_work = 0.0;
-  /// Push-outs given up in the step (those slaves are held instead).
-  int pushes_given_up = 0;
-  /// Second constraints given to slaves pressed into a crease.
-  int creases = 0;
-  double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   /// At the end of the step: the deepest slave behind a master facet,
   /// active or not (0 if none), the deepest master node behind a slave
   /// facet (0 if none), and the extreme gaps of the active slaves (NaN if
@@ -89,6 +73,9 @@ struct StepContactStats {
   /// Unknowns of the step's last linear system (prescribed and eliminated
   /// ones left out, multipliers counted).
   int equations = 0;
+  /// The step's values of the method's own statistics, in the order of
+  /// Method::statistics() (set by finish_step; empty before).
+  std::vector<double> own;
 };
 
 /// What settle() decides after a converged solve.
@@ -207,12 +194,30 @@ class Method {
   [[nodiscard]] virtual std::string save() const = 0;
   virtual void load(const std::string& bytes, const std::string& what) = 0;
 
+  /// The statistics the method reports besides StepContactStats' common
+  /// ones (their step values in StepContactStats::own), in history.csv's
+  /// column order; none by default.
+  [[nodiscard]] virtual const std::vector<MethodStatistic>& statistics() const {
+    static const std::vector<MethodStatistic> none;
+    return none;
+  }
   /// The method's settings as it uses them (a penalty's ε per pair,
   /// automatic ones resolved), by name, for summary.json.
   [[nodiscard]] virtual std::vector<std::pair<std::string, double>> settings() const { return {}; }
   /// The contacts carrying force at the last step's end (or update).
   [[nodiscard]] virtual std::vector<ContactForce<D>> contact_forces() const = 0;
 };
+
+/// The value in `stats` of `method`'s own statistic with history column
+/// `column` (throws std::out_of_range if the method declares none such).
+template <int D>
+double own_statistic(const Method<D>& method, const StepContactStats& stats, std::string_view column) {
+  const std::vector<MethodStatistic>& declared = method.statistics();
+  for (std::size_t i = 0; i < declared.size(); ++i)
+    if (declared[i].column == column) return i < stats.own.size() ? stats.own[i] : 0.0;
+  throw std::out_of_range("the contact method '" + std::string(method.name()) + "' reports no statistic '" +
+                          std::string(column) + "'");
+}
 
 /// The method the scenario's [[contact]] `method` names, for `model` with
 /// the contact `pairs` (built from the scenario's [[contact]] tables, in

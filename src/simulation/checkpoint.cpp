@@ -44,7 +44,7 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.doubles(t.drift.deviation.data(), t.drift.deviation.size());
   w.value(t.drift.energy_reference);
   w.value(t.drift.momentum_reference);
-  const std::vector<std::string> keys = RunStatistics::keys();
+  const std::vector<std::string> keys = t.statistics.keys();
   w.value(static_cast<std::uint64_t>(keys.size()));
   for (std::size_t k = 0; k < keys.size(); ++k) {
     w.text(keys[k]);
@@ -53,24 +53,25 @@ void write_totals(Writer& w, const RunTotals& t) {
   w.value(t.statistics.steps);
 }
 
-/// The run statistics, key by key: a checkpoint of a conserve with other
-/// statistics is refused naming the first that differs.
-RunTotals read_totals(Reader& r) {
-  RunTotals t;
+/// The run statistics, key by key, into `statistics` (the run's, with its
+/// contact method's own): a checkpoint with other statistics is refused
+/// naming the first that differs.
+RunTotals read_totals(Reader& r, RunStatistics statistics) {
+  RunTotals t{.drift = {}, .statistics = std::move(statistics)};
   r.doubles(t.drift.deviation.data(), t.drift.deviation.size(), "the deviations");
   t.drift.energy_reference = r.value<double>();
   t.drift.momentum_reference = r.value<double>();
-  const std::vector<std::string> keys = RunStatistics::keys();
+  const std::vector<std::string> keys = t.statistics.keys();
   const auto count = r.value<std::uint64_t>();
   if (count != keys.size())
-    r.fail(fmt::format("it holds {} run statistics, this conserve keeps {} (restart with the conserve that wrote "
-                       "it, or run from the start)",
+    r.fail(fmt::format("it holds {} run statistics, this run keeps {} (restart with the conserve and the "
+                       "contact method that wrote it, or run from the start)",
                        count, keys.size()));
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const std::string key = r.text(256);
     if (key != keys[k])
-      r.fail(fmt::format("its run statistic {} is '{}' where this conserve keeps '{}' (restart with the conserve "
-                         "that wrote it, or run from the start)",
+      r.fail(fmt::format("its run statistic {} is '{}' where this run keeps '{}' (restart with the conserve "
+                         "and the contact method that wrote it, or run from the start)",
                          k, key, keys[k]));
     t.statistics.accumulated[k] = r.value<double>();
   }
@@ -188,7 +189,7 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& c)
 
 template <int D>
 Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerprint& expected,
-                              const model::Model<D>& model) {
+                              const model::Model<D>& model, RunStatistics statistics) {
   Reader r(slurp(file), file.string());
   std::string magic(r.value<std::size_t>() == kMagic.size() ? kMagic.size() : 0, ' ');
   for (char& ch : magic) ch = r.value<char>();
@@ -228,7 +229,7 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
   c.control.cutbacks = r.value<std::int64_t>();
   c.control.last_dt = r.value<double>();
   c.control.previous_dt = r.value<double>();
-  c.totals = read_totals(r);
+  c.totals = read_totals(r, std::move(statistics));
   // The contact method's state: at most a few hundred bytes a node.
   c.contact = r.text(static_cast<std::size_t>(model.num_nodes()) * 1024 + 1024, true);
   // The integrator's: at most two tangents' states of three vectors each.
@@ -242,7 +243,9 @@ Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerpri
 
 template void write_checkpoint<2>(const std::filesystem::path&, const Checkpoint<2>&);
 template void write_checkpoint<3>(const std::filesystem::path&, const Checkpoint<3>&);
-template Checkpoint<2> read_checkpoint<2>(const std::filesystem::path&, const Fingerprint&, const model::Model<2>&);
-template Checkpoint<3> read_checkpoint<3>(const std::filesystem::path&, const Fingerprint&, const model::Model<3>&);
+template Checkpoint<2> read_checkpoint<2>(const std::filesystem::path&, const Fingerprint&, const model::Model<2>&,
+                                          RunStatistics);
+template Checkpoint<3> read_checkpoint<3>(const std::filesystem::path&, const Fingerprint&, const model::Model<3>&,
+                                          RunStatistics);
 
 }  // namespace conserve::simulation

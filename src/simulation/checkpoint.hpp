@@ -67,8 +67,10 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint<D>& ch
 /// Throws InputError naming the file if it is not a checkpoint (or one of
 /// another format version), is truncated, or belongs to another dimension
 /// or scenario: then the message names the first setting that differs.
+/// `statistics`: the run's (RunStatistics with its contact method's own),
+/// whose accumulations the checkpoint holds.
 template <int D>
 Checkpoint<D> read_checkpoint(const std::filesystem::path& file, const Fingerprint& expected,
-                              const model::Model<D>& model);
+                              const model::Model<D>& model, RunStatistics statistics = RunStatistics());
 
 }  // namespace conserve::simulation

@@ -15,11 +15,11 @@ namespace conserve::simulation {
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names,
                                          const std::vector<std::string>& pair_names,
                                          const std::vector<std::string>& support_names,
-                                         const std::vector<std::string>& free_names) {
+                                         const std::vector<std::string>& free_names,
+                                         const std::vector<contact::MethodStatistic>& own) {
   std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
                                 "J_x",  "J_y",  "J_z"};
-  for (const Statistic& s : statistics())
-    if (!s.column.empty()) c.emplace_back(s.column);
+  for (std::string& s : statistic_columns(own)) c.push_back(std::move(s));
   c.insert(c.end(), {"drift_E", "drift_L", "drift_J"});
   for (const auto& name : body_names)
     for (const char* axis : {"x", "y", "z"}) c.push_back(fmt::format("L_{}:{}", axis, name));
@@ -36,6 +36,13 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
 }
 
 namespace {
+/// The contact method's own statistics (none without contact).
+template <int D>
+const std::vector<contact::MethodStatistic>& own_statistics(const contact::Method<D>* contacts) {
+  static const std::vector<contact::MethodStatistic> none;
+  return contacts ? contacts->statistics() : none;
+}
+
 template <int D>
 std::vector<std::string> body_names(const model::Model<D>& model) {
   std::vector<std::string> names;
@@ -127,7 +134,7 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
       format_{.compress = spec.compress, .single_precision = spec.single_precision},
       history_(directory / "history.csv", history_columns(body_names(assembler.model()), pair_names<D>(contacts),
                                                           support_names<D>(assembler.model()),
-                                                          free_names<D>(assembler.model()))) {
+                                                          free_names<D>(assembler.model()), own_statistics(contacts))) {
   if (resume_time) last_time_ = *resume_time;
   add_bare_surfaces<D>(assembler.model(), surface_facets_, surface_body_);
   if (spec.vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
@@ -150,8 +157,7 @@ void OutputWriter<D>::write(const model::State& state, const StepFigures& figure
                              d.angular.x(),
                              d.angular.y(),
                              d.angular.z()};
-  for (const Statistic& s : statistics())
-    if (!s.column.empty()) row.push_back(s.value(figures));
+  for (double v : statistic_values(figures, own_statistics(contacts_))) row.push_back(v);
   row.insert(row.end(), {drift.energy, drift.linear, drift.angular});
   for (const Vec3& L : d.body_linear) row.insert(row.end(), {L.x(), L.y(), L.z()});
   if (contacts_) {

@@ -29,7 +29,8 @@ namespace conserve::simulation {
 std::vector<std::string> history_columns(const std::vector<std::string>& body_names = {},
                                          const std::vector<std::string>& pair_names = {},
                                          const std::vector<std::string>& support_names = {},
-                                         const std::vector<std::string>& free_names = {});
+                                         const std::vector<std::string>& free_names = {},
+                                         const std::vector<contact::MethodStatistic>& own = {});
 
 template <int D>
 class OutputWriter {

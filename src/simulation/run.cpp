@@ -67,9 +67,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(problem.model.size(), d0, conservation(sc));
-  RunTotals totals;
+  RunTotals totals{.drift = {}, .statistics = RunStatistics(contact ? contact->statistics()
+                                                                      : std::vector<contact::MethodStatistic>())};
   if (options.restart) {
-    Checkpoint<D> c = read_checkpoint<D>(*options.restart, fingerprint, problem.model);
+    Checkpoint<D> c = read_checkpoint<D>(*options.restart, fingerprint, problem.model, totals.statistics);
     state = std::move(c.state);
     control = c.control;
     totals = c.totals;

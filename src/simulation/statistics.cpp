@@ -1,8 +1,10 @@
 #include "simulation/statistics.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace conserve::simulation {
 namespace {
@@ -11,20 +13,11 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 const contact::StepContactStats& contact_of(const StepFigures& f) { return f.record.contact; }
 
-/// One accumulation slot: statistic `statistic`'s summary entry `entry`.
-struct Slot {
-  std::size_t statistic;
-  std::size_t entry;
-};
-
-const std::vector<Slot>& slots() {
-  static const std::vector<Slot> all = [] {
-    std::vector<Slot> s;
-    for (std::size_t i = 0; i < statistics().size(); ++i)
-      for (std::size_t e = 0; e < statistics()[i].summary.size(); ++e) s.push_back({i, e});
-    return s;
-  }();
-  return all;
+/// The step's value of the contact method's own statistic `i` (0 when the
+/// step has none: the initial state).
+double own_value(const StepFigures& f, std::size_t i) {
+  const std::vector<double>& own = contact_of(f).own;
+  return i < own.size() ? own[i] : 0.0;
 }
 
 /// Before any step: 0 for sums, means and counts, NaN for other extremes.
@@ -45,8 +38,6 @@ const std::vector<Statistic>& statistics() {
       {"activations", [](F f) { return double(contact_of(f).activations); }, {{"activations", Over::sum, true}}},
       {"releases", [](F f) { return double(contact_of(f).releases); }, {{"releases", Over::sum, true}}},
       {"active_set_passes", [](F f) { return double(contact_of(f).passes); }},
-      {"max_activation_gap", [](F f) { return contact_of(f).max_activation_gap; },
-       {{"max_activation_gap", Over::max}}},
       {"contact_force", [](F f) { return f.contact_force; }},
       {"min_active_gap", [](F f) { return contact_of(f).min_active_gap; }, {{"min_active_gap", Over::min}}},
       {"max_active_gap", [](F f) { return contact_of(f).max_active_gap; }, {{"max_active_gap", Over::max}}},
@@ -55,18 +46,8 @@ const std::vector<Statistic>& statistics() {
       {"slave_penetration", [](F f) { return contact_of(f).slave_penetration; }, {{"slave_penetration", Over::max}}},
       {"master_penetration", [](F f) { return contact_of(f).master_penetration; },
        {{"master_penetration", Over::max}}},
-      {"held", [](F f) { return double(contact_of(f).held); }, {{"held", Over::sum, true}}},
-      {"chatter", [](F f) { return double(contact_of(f).chatter); }, {{"chatter", Over::sum, true}}},
-      {"loaded_releases", [](F f) { return double(contact_of(f).loaded_releases); }, {{"loaded_releases", Over::sum, true}}},
       {"impact_splits", [](F f) { return double(contact_of(f).splits); }, {{"impact_splits", Over::sum, true}}},
       {"", [](F f) { return double(contact_of(f).split_passes); }, {{"impact_split_passes", Over::sum, true}}},
-      {"rate_steps", [](F f) { return double(contact_of(f).rate_steps); }, {{"rate_steps", Over::sum, true}}},
-      {"pushes", [](F f) { return double(contact_of(f).pushes); }, {{"pushes", Over::sum, true}}},
-      {"creases", [](F f) { return double(contact_of(f).creases); }, {{"creases", Over::sum, true}}},
-      {"push_work", [](F f) { return contact_of(f).push_work; }, {{"push_work", Over::sum}}},
-      {"velocity_update_failures", [](F f) { return double(contact_of(f).velocity.failure != nullptr); },
-       {{"velocity_update_failures", Over::sum, true}}},
-      {"pushes_given_up", [](F f) { return double(contact_of(f).pushes_given_up); }, {{"pushes_given_up", Over::sum, true}}},
       {"min_det_F", [](F f) { return f.diagnostics.min_det_F; }, {{"min_det_F", Over::min}}},
       {"contact_energy", [](F f) { return f.diagnostics.contact; }, {{"max_contact_energy", Over::max}}},
       {"contact_released", [](F f) { return contact_of(f).contact_released; }, {{"contact_released", Over::sum}}},
@@ -81,16 +62,47 @@ const std::vector<Statistic>& statistics() {
   return all;
 }
 
-RunStatistics::RunStatistics() {
-  for (const Slot& s : slots()) accumulated.push_back(initial(statistics()[s.statistic].summary[s.entry]));
+std::vector<std::string> statistic_columns(const std::vector<contact::MethodStatistic>& own) {
+  std::vector<std::string> c;
+  for (const Statistic& s : statistics())
+    if (!s.column.empty()) c.emplace_back(s.column);
+  for (const contact::MethodStatistic& s : own)
+    if (!s.column.empty()) c.emplace_back(s.column);
+  return c;
+}
+
+std::vector<double> statistic_values(const StepFigures& figures, const std::vector<contact::MethodStatistic>& own) {
+  std::vector<double> v;
+  for (const Statistic& s : statistics())
+    if (!s.column.empty()) v.push_back(s.value(figures));
+  for (std::size_t i = 0; i < own.size(); ++i)
+    if (!own[i].column.empty()) v.push_back(own_value(figures, i));
+  return v;
+}
+
+RunStatistics::RunStatistics(std::vector<contact::MethodStatistic> own) : own_(std::move(own)) {
+  for (std::size_t i = 0; i < statistics().size() + own_.size(); ++i) {
+    const std::size_t entries =
+        i < statistics().size() ? statistics()[i].summary.size() : own_[i - statistics().size()].summary.size();
+    for (std::size_t e = 0; e < entries; ++e) slots_.push_back({i, e});
+  }
+  for (const Slot& s : slots_) accumulated.push_back(initial(entry(s)));
+}
+
+const RunValue& RunStatistics::entry(const Slot& slot) const {
+  const std::size_t common = statistics().size();
+  return slot.statistic < common ? statistics()[slot.statistic].summary[slot.entry]
+                                 : own_[slot.statistic - common].summary[slot.entry];
 }
 
 void RunStatistics::add(const StepFigures& figures, bool taken) {
   if (taken) steps += 1.0;
-  for (std::size_t k = 0; k < slots().size(); ++k) {
-    const Slot& s = slots()[k];
-    const Over over = statistics()[s.statistic].summary[s.entry].over;
-    const double v = statistics()[s.statistic].value(figures);
+  const std::size_t common = statistics().size();
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    const Slot& s = slots_[k];
+    const Over over = entry(s).over;
+    const double v = s.statistic < common ? statistics()[s.statistic].value(figures)
+                                          : own_value(figures, s.statistic - common);
     double& a = accumulated[k];
     switch (over) {
       case Over::sum:
@@ -110,27 +122,30 @@ void RunStatistics::add(const StepFigures& figures, bool taken) {
 }
 
 double RunStatistics::value(std::string_view key) const {
-  for (std::size_t k = 0; k < slots().size(); ++k) {
-    const auto& entry = statistics()[slots()[k].statistic].summary[slots()[k].entry];
-    if (entry.key != key) continue;
-    return entry.over == Over::mean ? accumulated[k] / std::max(steps, 1.0) : accumulated[k];
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    const RunValue& e = entry(slots_[k]);
+    if (e.key != key) continue;
+    return e.over == Over::mean ? accumulated[k] / std::max(steps, 1.0) : accumulated[k];
   }
   throw std::out_of_range("no run statistic " + std::string(key));
 }
 
+bool RunStatistics::has(std::string_view key) const {
+  return std::any_of(slots_.begin(), slots_.end(), [&](const Slot& s) { return entry(s).key == key; });
+}
+
 std::vector<std::tuple<std::string, double, bool>> RunStatistics::summary() const {
   std::vector<std::tuple<std::string, double, bool>> out;
-  for (const Slot& s : slots()) {
-    const Statistic& stat = statistics()[s.statistic];
-    const std::string key(stat.summary[s.entry].key);
-    out.emplace_back(key, value(key), stat.summary[s.entry].count);
+  for (const Slot& s : slots_) {
+    const std::string key(entry(s).key);
+    out.emplace_back(key, value(key), entry(s).count);
   }
   return out;
 }
 
-std::vector<std::string> RunStatistics::keys() {
+std::vector<std::string> RunStatistics::keys() const {
   std::vector<std::string> out;
-  for (const Slot& s : slots()) out.emplace_back(statistics()[s.statistic].summary[s.entry].key);
+  for (const Slot& s : slots_) out.emplace_back(entry(s).key);
   return out;
 }
 

@@ -30,6 +30,10 @@ struct RunSummary {
   RunStatistics statistics;
   /// The run value of statistic key `key` (summary.json's).
   [[nodiscard]] double statistic(std::string_view key) const { return statistics.value(key); }
+  /// The same, 0 where the run has no such statistic (another contact method's own).
+  [[nodiscard]] double statistic_or_zero(std::string_view key) const {
+    return statistics.has(key) ? statistics.value(key) : 0.0;
+  }
   std::filesystem::path output_directory;
   int earlier_files_removed = 0;  ///< files of an earlier run removed from it (simulation/output_folder.hpp)
   solver::Timings timings;      ///< where the wall time went

@@ -104,7 +104,7 @@ TEST(Trace, SummaryKeepsEveryEarlierKey) {
   const auto j = nlohmann::json::parse(slurp(dir / "out/summary.json"));
   EXPECT_EQ(j.at("steps"), 3);
   EXPECT_GT(j.at("unknowns").get<int>(), 0);
-  for (const char* key : {"wall_seconds", "mean_newton_iterations", "max_activation_gap", "min_dt"})
+  for (const char* key : {"wall_seconds", "mean_newton_iterations", "max_penetration", "min_dt"})
     EXPECT_TRUE(j.at(key).is_number()) << key;
   for (const char* key : {"max_newton_iterations", "activations", "releases", "linear_setups", "linear_solves",
                           "linear_iterations", "linear_fallbacks", "lu_first", "symbolic_analyses", "cutbacks"})

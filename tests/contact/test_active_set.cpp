@@ -358,7 +358,8 @@ TEST(ActiveSet, ASlaveCrossingAFacetIsActivatedHoldingItsStartGapAndReleasedWhen
   const Eigen::VectorXd v_n = Eigen::VectorXd::Zero(u_n.size());
   set.begin_step(1, 0.0, 1e-3, v_n);
   StepContactStats stats;
-  EXPECT_EQ(set.update(u_n, u_np1, scene.pressing(0.0), stats), SetChange::changed);
+  HeldCounts counts;
+  EXPECT_EQ(set.update(u_n, u_np1, scene.pressing(0.0), stats, counts), SetChange::changed);
   EXPECT_EQ(stats.activations, 2);  // the square's bottom corners
   ASSERT_EQ(set.constraints().size(), 2u);
   for (const Constraint<2>& c : set.constraints()) {
@@ -368,7 +369,7 @@ TEST(ActiveSet, ASlaveCrossingAFacetIsActivatedHoldingItsStartGapAndReleasedWhen
   EXPECT_NEAR(stats.slave_penetration, 0.05, 1e-14);
   // Solved again, the corners pressing: the set is settled.
   StepContactStats again;
-  EXPECT_EQ(set.update(u_n, scene.lowered(0.1), scene.pressing(1.0), again), SetChange::none);
+  EXPECT_EQ(set.update(u_n, scene.lowered(0.1), scene.pressing(1.0), again, counts), SetChange::none);
   EXPECT_EQ(again.activations + again.releases, 0);
   EXPECT_NEAR(again.min_active_gap, 0.0, 1e-14);
   set.end_step(1e-3);
@@ -376,15 +377,20 @@ TEST(ActiveSet, ASlaveCrossingAFacetIsActivatedHoldingItsStartGapAndReleasedWhen
   // held for the rest of the step (not released twice).
   set.begin_step(2, 1e-3, 1e-3, v_n);
   StepContactStats pull;
-  EXPECT_EQ(set.update(scene.lowered(0.1), scene.lowered(0.05), scene.pressing(-1.0), pull), SetChange::changed);
+  HeldCounts pull_counts;
+  EXPECT_EQ(set.update(scene.lowered(0.1), scene.lowered(0.05), scene.pressing(-1.0), pull, pull_counts),
+            SetChange::changed);
   EXPECT_EQ(pull.releases, 2);
-  EXPECT_EQ(pull.chatter, 2);  // activated one step before
+  EXPECT_EQ(pull_counts.chatter, 2);  // activated one step before
   EXPECT_TRUE(set.constraints().empty());
   StepContactStats back;
-  EXPECT_EQ(set.update(scene.lowered(0.1), scene.lowered(0.12), scene.pressing(0.0), back), SetChange::changed);
-  EXPECT_EQ(back.held, 2);
+  HeldCounts back_counts;
+  EXPECT_EQ(set.update(scene.lowered(0.1), scene.lowered(0.12), scene.pressing(0.0), back, back_counts),
+            SetChange::changed);
+  EXPECT_EQ(back_counts.held, 2);
   StepContactStats kept;
-  EXPECT_EQ(set.update(scene.lowered(0.1), scene.lowered(0.1), scene.pressing(-1.0), kept), SetChange::none);
+  EXPECT_EQ(set.update(scene.lowered(0.1), scene.lowered(0.1), scene.pressing(-1.0), kept, back_counts),
+            SetChange::none);
   EXPECT_EQ(set.constraints().size(), 2u);
 }
 
@@ -402,7 +408,8 @@ TEST(ActiveSet, WithImpactsLocatedAStepThatWouldActivateFromFurtherOutIsSplitAtT
   const double expected = (0.1 - 0.005) / 0.15;
   EXPECT_NEAR(set.split_fraction(u_n, u_np1), expected, 1e-12);
   StepContactStats stats;
-  EXPECT_EQ(set.update(u_n, u_np1, scene.pressing(0.0), stats), SetChange::split);
+  HeldCounts counts;
+  EXPECT_EQ(set.update(u_n, u_np1, scene.pressing(0.0), stats, counts), SetChange::split);
   EXPECT_NEAR(stats.split_fraction, expected, 1e-12);
   EXPECT_TRUE(set.constraints().empty());
   set.allow_splits(false);

@@ -7,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include "contact/elimination/held_statistics.hpp"
 #include "core/error.hpp"
 #include "simulation/checkpoint.hpp"
 #include "support/files.hpp"
@@ -65,18 +66,31 @@ TEST(Checkpoint, KeepsTheContactStateAndWhatReleasesPredictFrom) {
   const auto dir = test::scratch("checkpoint_contact_state");
   const model::Model<2> model = three_nodes();
   Checkpoint<2> c = at_rest();
-  const std::vector<std::string> keys = RunStatistics::keys();
+  c.totals.statistics = RunStatistics(contact::held_statistics());  // elimination's own statistics
+  const std::vector<std::string> keys = c.totals.statistics.keys();
   c.totals.statistics.accumulated[static_cast<std::size_t>(
       std::find(keys.begin(), keys.end(), "pushes_given_up") - keys.begin())] = 3;
   c.control.last_dt = 2.5e-4;
   c.control.previous_dt = 5e-4;
   c.contact = std::string("\0\x01\x7f\n bytes", 9);
   write_checkpoint<2>(checkpoint_path(dir, 0), c);
-  const Checkpoint<2> back = read_checkpoint<2>(checkpoint_path(dir, 0), c.fingerprint, model);
+  const Checkpoint<2> back =
+      read_checkpoint<2>(checkpoint_path(dir, 0), c.fingerprint, model, RunStatistics(contact::held_statistics()));
   EXPECT_EQ(back.contact, c.contact);
   EXPECT_EQ(back.control.last_dt, 2.5e-4);
   EXPECT_EQ(back.control.previous_dt, 5e-4);
   EXPECT_EQ(back.totals.statistics.value("pushes_given_up"), 3);
+  // Read for a run without those statistics (another contact method): refused.
+  EXPECT_THROW(
+      {
+        try {
+          (void)read_checkpoint<2>(checkpoint_path(dir, 0), c.fingerprint, model);
+        } catch (const InputError& e) {
+          EXPECT_NE(std::string(e.what()).find("run statistics"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      InputError);
 }
 
 TEST(Checkpoint, RefusesAnEarlierFormatVersion) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "io/scenario.hpp"
 #include "simulation/stepper.hpp"
@@ -54,6 +55,11 @@ struct ContactRun {
     d.contact = last.contact.contact_energy;
     d.total += d.contact;
     return d;
+  }
+  /// The last step's value of the method's own statistic `column`
+  /// (contact::Method::statistics, e.g. elimination's "pushes").
+  [[nodiscard]] double own(std::string_view column) const {
+    return contact::own_statistic<D>(*method, last.contact, column);
   }
   [[nodiscard]] contact::Positions<D> positions() const {
     return problem.model.X + state.u.reshaped(D, problem.model.num_nodes());

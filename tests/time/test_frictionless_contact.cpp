@@ -289,8 +289,8 @@ HollowCylinders run_hollow_cylinders(const std::string& scenario, int steps) {
     r.energy = std::max(r.energy, std::abs(d.total - d0.total) / d0.total);
     r.linear_x = std::max(r.linear_x, std::abs(d.linear.x() - d0.linear.x()) / d0.linear.x());
     const auto& stats = run.integrator->contact_stats();
-    r.rate_steps += stats.rate_steps;
-    r.pushes += stats.pushes;
+    r.rate_steps += static_cast<int>(run.own("rate_steps"));
+    r.pushes += static_cast<int>(run.own("pushes"));
     if (stats.min_active_gap < 0.0) r.behind = std::max(r.behind, -stats.min_active_gap);
   }
   std::printf("[ measured ] two hollow cylinders, %d steps: drift E %.2e, L_x %.2e; %d constraint-steps under (48); "
@@ -509,7 +509,7 @@ TEST(FrictionlessContact, ReducedTangentOfACreasePairMatchesDifferences) {
   for (int n = 0; n < 250 && creases == 0; ++n) {
     run.step();
     const auto& stats = run.integrator->contact_stats();
-    formed += stats.creases;
+    formed += static_cast<int>(run.own("creases"));
     if (stats.min_active_gap < 0.0) behind = std::max(behind, -stats.min_active_gap);
     energy = std::max(energy, std::abs(run.diagnostics().total - d0.total) / d0.total);
     creases = crease_slaves(run.contacts->constraints());
@@ -567,8 +567,8 @@ void check_block_into_a_flank(const std::string& scheme, double depth, double sp
     const contact::Positions<D> x_n = run.positions();
     ASSERT_NO_THROW(run.step()) << scheme << ", step " << steps + 1;
     ++steps;
-    given_up += run.last.contact.pushes_given_up;
-    pushes += run.last.contact.pushes;
+    given_up += static_cast<int>(run.own("pushes_given_up"));
+    pushes += static_cast<int>(run.own("pushes"));
     const Diagnostics d = run.diagnostics();
     e = std::max(e, std::abs(d.total - d0.total) / d0.total);
     det_F = std::min(det_F, d.min_det_F);

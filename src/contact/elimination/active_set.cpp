@@ -111,12 +111,12 @@ Positions<D> ActiveSet<D>::positions(const Eigen::VectorXd& u) const {
 
 template <int D>
 SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
-                               StepContactStats& stats) {
+                               StepContactStats& stats, HeldCounts& counts) {
   ++stats.passes;
   const Positions<D> x_n = positions(u_n), x_np1 = positions(u_np1);
   const Positions<D> x_mid = 0.5 * (x_n + x_np1);
-  const bool released = release_tensile(x_mid, g, stats);
-  const SetChange activated = activate_penetrating(x_n, x_np1, stats);
+  const bool released = release_tensile(x_mid, g, stats, counts);
+  const SetChange activated = activate_penetrating(x_n, x_np1, stats, counts);
   if (activated == SetChange::split) return activated;
   if (released || activated == SetChange::changed) return SetChange::changed;
   if (switch_friction(x_n, x_np1)) return SetChange::changed;
@@ -140,13 +140,13 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
     if (!c.rate) continue;
     c.gap = end_gap[k];
     c.rate = false;
-    ++stats.rate_steps;
+    ++counts.rate_steps;
   }
-  stats.pushes =
+  counts.pushes =
       static_cast<int>(std::count_if(active_.begin(), active_.end(), [](const Constraint<D>& c) { return c.push; }));
   // Slaves held afresh in the step: not those held before it and
   // re-activated in it after a release.
-  stats.pushes_given_up =
+  counts.pushes_given_up =
       old_given_up_ + static_cast<int>(std::count_if(active_.begin(), active_.end(), [&](const Constraint<D>& c) {
         return c.hold && c.activated_step == step_ && given_up_[c.slave] != 1;
       }));
@@ -242,7 +242,8 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
 // (46), (65): keep the constraint while f_N = g_s·n_{n+½} ≥ 0 (or while it
 // is held after a release earlier in the step).
 template <int D>
-bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats) {
+bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats,
+                                   HeldCounts& counts) {
   for (Constraint<D>& c : active_) {
     FacetNodes<D> xm;
     for (int a = 0; a < D; ++a) xm.col(a) = x_mid.col(c.master[a]);
@@ -261,8 +262,8 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
     if (f_n < 0.0 && !held_[c.slave]) {
       locator_.released(c.slave);
       ++stats.releases;
-      if (step_ - c.activated_step < kChatterWindow) ++stats.chatter;
-      if (c.activated_step < step_ && c.start_force > kLoadedFraction * start_mean_force_) ++stats.loaded_releases;
+      if (step_ - c.activated_step < kChatterWindow) ++counts.chatter;
+      if (c.activated_step < step_ && c.start_force > kLoadedFraction * start_mean_force_) ++counts.loaded_releases;
       continue;
     }
     c.normal_force = f_n;
@@ -282,7 +283,7 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
 // this pass's u_{n+1} is the step's end and so is that geometry.
 template <int D>
 SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1,
-                                             StepContactStats& stats) {
+                                             StepContactStats& stats, HeldCounts& counts) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   bool changed = false;
@@ -296,7 +297,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
     if (index_.active_in(p, i)) active_gap[p][i] = match.projection.gap;
     if (const auto c = activation(p, i, s, match, x_n, x_np1)) {
       if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(*c, match, x_n));
-      if (index_.active_in(p, i)) ++stats.creases;
+      if (index_.active_in(p, i)) ++counts.creases;
       index_.mark(*c, collisions_.pairs());  // a node on two slave surfaces or at a crease: a third is refused
       activated.push_back(*c);
     }
@@ -317,10 +318,10 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
     return SetChange::split;
   }
   for (const Constraint<D>& c : activated) {
-    stats.max_activation_gap = std::max(stats.max_activation_gap, c.gap);
+    counts.max_activation_gap = std::max(counts.max_activation_gap, c.gap);
     ++stats.activations;
     locator_.activated(c.pair);
-    if (locator_.released_in_step(c.slave)) held_[c.slave] = 1, ++stats.held;
+    if (locator_.released_in_step(c.slave)) held_[c.slave] = 1, ++counts.held;
     active_.push_back(c);
     normal_forces_.push_back(0.0);
     changed = true;

@@ -26,6 +26,7 @@
 #include "contact/elimination/activation.hpp"
 #include "contact/elimination/elimination.hpp"
 #include "contact/elimination/friction.hpp"
+#include "contact/elimination/held_statistics.hpp"
 #include "contact/elimination/impact_locator.hpp"
 #include "contact/elimination/release.hpp"
 #include "contact/elimination/slave_index.hpp"
@@ -91,7 +92,7 @@ class ActiveSet {
   /// tolerance, by the straight path of this solve (the set is then
   /// left as the caller must restore it: the step is taken again).
   SetChange update(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1, const Eigen::VectorXd& g,
-                   StepContactStats& stats);
+                   StepContactStats& stats, HeldCounts& counts);
 
   /// Gives up the step's push-outs (Constraint::push) after a solve whose
   /// push-out work the bodies cannot give back: each such slave is held
@@ -171,8 +172,10 @@ class ActiveSet {
  private:
   /// switched_ bits: went from stick to slip, from slip to stick.
   static constexpr char kToSlip = 1, kToStick = 2;
-  bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats);
-  SetChange activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats);
+  bool release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats,
+                       HeldCounts& counts);
+  SetChange activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1, StepContactStats& stats,
+                                 HeldCounts& counts);
   /// Coulomb pairs' slaves (one constraint, not held after a release):
   /// a sticking one whose force leaves the cone slips, a slipping one
   /// whose slip stays below kStickSlip × its regularization sticks
@@ -224,7 +227,7 @@ class ActiveSet {
   /// pushed again.
   std::vector<char> given_up_;
   /// Constraints from before this step whose push-out was given up in it
-  /// (hold_pushes); with the step's new held slaves, StepContactStats::pushes_given_up.
+  /// (hold_pushes); with the step's new held slaves, HeldCounts::pushes_given_up.
   int old_given_up_ = 0;
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step

@@ -70,6 +70,7 @@ void HeldMethod<D>::begin_step(std::int64_t step, double dt, const model::State&
   active_.begin_step(step, start.time, dt, start.v);
   end_time_ = start.time + dt;
   dt_ = dt;
+  counts_ = {};
 }
 
 template <int D>
@@ -80,12 +81,12 @@ bool HeldMethod<D>::recover(const Eigen::VectorXd& u_n) {
 template <int D>
 Verdict HeldMethod<D>::settle(const model::State& start, double dt, const Eigen::VectorXd& u_np1,
                                      const Eigen::VectorXd& g, Eigen::VectorXd& v_np1, StepContactStats& stats) {
-  const SetChange change = active_.update(start.u, u_np1, g, stats);
+  const SetChange change = active_.update(start.u, u_np1, g, stats, counts_);
   if (change == SetChange::split) return Verdict::split;
   if (change == SetChange::changed) return Verdict::changed;
-  stats.push_work = 0.0;
+  counts_.push_work = 0.0;
   friction(start.u, u_np1, stats);
-  if (stats.pushes == 0) return Verdict::accept;
+  if (counts_.pushes == 0) return Verdict::accept;
   // The step's energy error E_{n+1} − E_n is Δu·g over the free dofs (the
   // zero-work forces contribute nothing, Newton's leftover its round-off):
   // here the push-outs' work, and the friction's (−dissipated).
@@ -95,13 +96,13 @@ Verdict HeldMethod<D>::settle(const model::State& start, double dt, const Eigen:
   const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
   v_np1 = (2.0 / dt) * (u_np1 - start.u) - start.v;  // (19)
   if (restorer_.restore_energy(x, push_work, v_np1)) {
-    stats.push_work = push_work;
+    counts_.push_work = push_work;
     return Verdict::accept;
   }
   // More than the bodies' deformation velocity holds, at this Δt and (the
   // work grows as the push-out's speed squared) any shorter one: the
   // slaves are held where they started instead.
-  active_.hold_pushes(start.u);  // counted in stats.pushes_given_up by the next update
+  active_.hold_pushes(start.u);  // counted in HeldCounts::pushes_given_up by the next update
   v_np1.resize(0);
   return Verdict::changed;
 }
@@ -133,7 +134,7 @@ void HeldMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorX
   std::vector<SlaveImpulse<D>> impulses(constraints.size());
   const Positions<D> x = model_.X + u_np1.reshaped(D, model_.X.cols());
   if (persistent_ && !constraints.empty())
-    stats.velocity = persistent_->apply(constraints, active_.pairs(), x, v_np1, &impulses);
+    counts_.velocity = persistent_->apply(constraints, active_.pairs(), x, v_np1, &impulses);
   forces_.clear();
   for (std::size_t i = 0; i < constraints.size(); ++i) {
     const Constraint<D>& c = constraints[i];
@@ -150,6 +151,7 @@ void HeldMethod<D>::finish_step(const Eigen::VectorXd& u_n, const Eigen::VectorX
                        .master = c.master,
                        .weights = impulses[i].weights});
   }
+  stats.own = held_values(counts_);
 }
 
 template <int D>

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "contact/elimination/active_set.hpp"
+#include "contact/elimination/held_statistics.hpp"
 #include "contact/elimination/persistent_velocity.hpp"
 #include "contact/elimination/tangent_reduction.hpp"
 #include "contact/method.hpp"
@@ -43,6 +44,7 @@ class HeldMethod : public Method<D> {
   [[nodiscard]] std::string save() const override;
   void load(const std::string& bytes, const std::string& what) override;
   [[nodiscard]] std::vector<ContactForce<D>> contact_forces() const override;
+  [[nodiscard]] const std::vector<MethodStatistic>& statistics() const override { return held_statistics(); }
 
   /// The active set itself (tests).
   [[nodiscard]] ActiveSet<D>& active_set() { return active_; }
@@ -73,6 +75,7 @@ class HeldMethod : public Method<D> {
   /// The constraints' forces at the last step's end (contact_forces), in
   /// their order, with the work and the persistency impulses of the step.
   std::vector<ContactForce<D>> forces_;
+  HeldCounts counts_;        ///< the step's own statistics (held_statistics.hpp)
   double end_time_ = 0.0;  ///< t_{n+1} of the step under way
   double dt_ = 0.0;        ///< its length
 };

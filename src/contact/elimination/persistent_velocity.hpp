@@ -35,6 +35,16 @@
 
 namespace conserve::contact {
 
+/// What a velocity update after the step did.
+struct VelocityUpdate {
+  bool applied = false;       ///< false: V* kept (nothing to remove, or the update failed)
+  double removed = 0.0;       ///< largest relative velocity of an active slave removed [m/s]
+  double energy_moved = 0.0;  ///< K* − K_p, the kinetic energy given back [J]
+  /// Why the update failed and V* was kept although the slaves moved
+  /// relative to their facets (nullptr: it did not fail).
+  const char* failure = nullptr;
+};
+
 /// A persistency impulse on a slave and the weights of its master's nodes.
 template <int D>
 struct SlaveImpulse {
