@@ -58,7 +58,8 @@ std::vector<double> statistic_values(const StepFigures& figures, const std::vect
 /// but not counted).
 class RunStatistics {
  public:
-  explicit RunStatistics(std::vector<contact::MethodStatistic> own = {});
+  RunStatistics() : RunStatistics(std::vector<contact::MethodStatistic>()) {}
+  explicit RunStatistics(std::vector<contact::MethodStatistic> own);
   /// Adds a step's figures; `taken` is false for the initial state.
   void add(const StepFigures& figures, bool taken);
   /// The run value of summary key `key` (throws std::out_of_range for an unknown key).
