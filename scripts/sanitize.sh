@@ -62,6 +62,7 @@ slow=(
   'Friction\.DiscThrownWithoutSpinSkidsThenRollsAtTwoThirdsOfItsSpeed2d'          # Friction.BlockSliding...2d
   'Friction\.BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByMultipliers2d'  # ...AndTime2d
   'Friction\.BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByPenalty3d'      # ...ByPenalty2d
+  'Friction\.BlockSlidingOnAPlaneStopsAtTheCoulombDistanceAndTimeByMultipliers3d'  # Friction.MultipliersTangentOf...
   # For a CI under an hour (4510 s for 8f32620), the 3D or every-law
   # siblings of shorter runs, 24-56 s each here:
   'MaterialContact\.LocatedPersistentImpactEveryLaw3d'                            # ...FrictionlessImpactEveryLaw2d

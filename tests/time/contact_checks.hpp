@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <random>
 #include <vector>
+
+#include <Eigen/SparseLU>
 
 #include "contact/elimination/method.hpp"
 #include "support/contact_run.hpp"
@@ -82,6 +85,77 @@ TaylorOrder reduced_tangent_order(ContactRun<D>& run, const std::vector<int>* no
     const TaylorOrder t = taylor_order(residual_after, Eigen::VectorXd::Zero(model.num_dofs()), q,
                                        without_skipped(Kr * q), 1e-6 * model.size());
     std::printf("[ measured ] reduced tangent (%zu constraints), direction %d: %s\n", count, k + 1,
+                describe(t).c_str());
+    worst = k == 0 ? t : worse(t, worst);
+  }
+  return worst;
+}
+
+/// The tangent of the Newton system the contact method's coupling forms
+/// (the multipliers' [[K + ∂(Bλ)/∂u, B], [βC, 0]]) by the Taylor test of
+/// its residual at the next step's solution (Newton from the prediction
+/// until the residual is 1e-9 of its first, the multipliers away from
+/// zero): the terms the multipliers' tangent leaves out (the variation of
+/// their motion directions μ, scaled by the constraint rows' residual c)
+/// vanish there. Along three random directions over the unknowns of
+/// `nodes` (every free one if null) and the method's own unknowns;
+/// prescribed rows left out. Steps from 1e-6 of the model's size, halved 8
+/// times (the remainders stay above the forces' round-off). Prints each
+/// direction's test and returns the worst.
+template <int D>
+TaylorOrder system_tangent_order(ContactRun<D>& run, const std::vector<int>* nodes = nullptr) {
+  const auto& model = run.problem.model;
+  const double dt = run.scenario.time.step;
+  run.method->begin_step(run.state.step + 1, dt, run.state);
+  Eigen::VectorXd u = run.state.u + dt * run.state.v;
+  model::apply_prescribed<D>(model.prescribed, model.X, run.state.time + dt, u);
+  const std::unique_ptr<contact::Coupling> coupling = run.method->coupling(run.state.u, u);
+  coupling->start(u);
+  const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
+  SparseMatrix K = run.assembler->pattern().make_matrix();
+  time::StepProblem<D> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u, K,
+                               coupling.get());
+  Eigen::VectorXd r;
+  double first = -1.0;
+  for (int k = 0; k < 10; ++k) {
+    problem.residual(r);
+    for (int d : model.prescribed.dofs) r[d] = 0.0;
+    if (first < 0.0) first = r.norm();
+    if (r.norm() <= 1e-9 * first) break;
+    Eigen::SparseLU<SparseMatrix> lu(problem.tangent());
+    problem.update(-lu.solve(r));
+  }
+  EXPECT_LE(r.norm(), 1e-9 * first) << "Newton did not converge";
+  problem.residual(r);
+  const SparseMatrix A = problem.tangent();
+  const Eigen::Index n = r.size();
+  std::vector<char> moved(static_cast<std::size_t>(n), 1);
+  if (nodes) {
+    std::fill(moved.begin(), moved.begin() + model.num_dofs(), 0);
+    for (int a : *nodes)
+      for (int i = 0; i < D; ++i) moved[static_cast<std::size_t>(a * D + i)] = 1;
+  }
+  for (int d : model.prescribed.dofs) moved[static_cast<std::size_t>(d)] = 0;
+  auto without_prescribed = [&](Eigen::VectorXd v) {
+    for (int d : model.prescribed.dofs) v[d] = 0.0;
+    return v;
+  };
+  auto residual_after = [&](const Eigen::VectorXd& q) {
+    problem.update(q);
+    Eigen::VectorXd rq;
+    problem.residual(rq);
+    EXPECT_TRUE(problem.revert());
+    return without_prescribed(rq);
+  };
+  std::mt19937 rng(37);
+  TaylorOrder worst;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::VectorXd q = random_direction(rng, n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!moved[static_cast<std::size_t>(i)]) q[i] = 0.0;
+    const TaylorOrder t = taylor_order(residual_after, Eigen::VectorXd::Zero(n), q, without_prescribed(A * q),
+                                       1e-6 * model.size(), 8);
+    std::printf("[ measured ] system tangent (%lld equations), direction %d: %s\n", static_cast<long long>(n), k + 1,
                 describe(t).c_str());
     worst = k == 0 ? t : worse(t, worst);
   }

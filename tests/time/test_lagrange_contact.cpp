@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "contact_checks.hpp"
 #include "support/contact_run.hpp"
 #include "support/files.hpp"
 #include "support/contact_scenarios.hpp"
@@ -140,6 +141,21 @@ TEST(LagrangeContact, EliminationsTrajectoryWithStick) {
   EXPECT_LT(p.worst, 1e-8);
   EXPECT_LT(p.energy, 1e-10);
 }
+
+// The multipliers' system tangent, B's own variation included, against
+// differences at the glancing spheres' solution once they touch (the
+// Coulomb case: Friction.MultipliersTangentOfSlippingSlaves...).
+template <int D>
+void system_tangent_is_consistent(const std::string& kind) {
+  ContactRun<D> run(test::with_method(test::glancing_spheres(D, kind, 0.1), "lagrange"));
+  test::run_until_contact(run, D, 150);
+  test::expect_second_order(test::system_tangent_order(run), std::to_string(D) + "D, " + kind);
+}
+
+TEST(LagrangeContact, SystemTangentMatchesDifferencesFrictionless2d) { system_tangent_is_consistent<2>("frictionless"); }
+TEST(LagrangeContact, SystemTangentMatchesDifferencesFrictionless3d) { system_tangent_is_consistent<3>("frictionless"); }
+TEST(LagrangeContact, SystemTangentMatchesDifferencesStick2d) { system_tangent_is_consistent<2>("stick"); }
+TEST(LagrangeContact, SystemTangentMatchesDifferencesStick3d) { system_tangent_is_consistent<3>("stick"); }
 
 }  // namespace
 }  // namespace conserve::time

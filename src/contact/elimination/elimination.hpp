@@ -122,6 +122,18 @@ class Elimination {
   /// each constraint by its own unknown reads.
   [[nodiscard]] const Coefficients& local_trial(std::size_t g) const { return trial_[g]; }
   [[nodiscard]] const Coefficients& local_test(std::size_t g) const { return test_[g]; }
+  /// For a method holding group g's constraint by a force f on the slave
+  /// (the multipliers, contact/lagrange/): the derivative of that force
+  /// pair, f at the slave and −W_aᵀ f at its facet's nodes a (W_a its test
+  /// coefficients), by the positions of these nodes at the maps' iterate,
+  /// with f = λ ν turning as ν does (λ = f·ν held): ν the unit direction
+  /// the slave's test slips miss (frictionless and Coulomb: their span's
+  /// normal, which friction turns with the slip), or fixed (stick: f is
+  /// held along the axes, W_a alone varies). D(D+1) × D(D+1), node blocks
+  /// in the order slave, facet nodes (k.master), outputs by inputs,
+  /// by automatic differentiation of the zero-work kernels. Zero for a
+  /// group of two constraints (not differentiated).
+  [[nodiscard]] Eigen::MatrixXd force_variation(std::size_t g, const Vec<D>& f) const;
 
  private:
   /// A copy would work on the same constraints: only save() makes one,

@@ -410,6 +410,38 @@ void Elimination<D>::add_pair_variation(int c, const Vec<D>& g_s, SparseMatrix& 
 }
 
 template <int D>
+Eigen::MatrixXd Elimination<D>::force_variation(std::size_t c, const Vec<D>& f) const {
+  constexpr int N = D * (D + 1);  // inputs and outputs: the slave, then the facet's nodes
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(N, N);
+  if (groups_[c].count == 2) return G;
+  const Constraint<D>& k = (*constraints_)[groups_[c].constraint[0]];
+  const Kernel in = kernel_input(k, u_);
+  if (k.kind == Kind::stick) {
+    constexpr int M = D * D;
+    const zero_work::Facet<D, double> xm = in.x.template rightCols<D>(), dxm = in.dx.template rightCols<D>();
+    const auto A = zero_work::stick_test<D, AD<M>>(variables<M>(xm), variables<M>(dxm), in.xm_n, in.offset, k.xi,
+                                                   k.gap);
+    const Eigen::Matrix<AD<M>, M, 1> out = -(A.transpose() * f.template cast<AD<M>>());
+    for (int o = 0; o < M; ++o) G.block(D + o, D, 1, M) = out(o).derivatives().transpose();
+    return G;
+  }
+  const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx), !k.push, k.friction,
+                                                        k.slip_scale);
+  Eigen::Matrix<AD<N>, D, 1> nu;
+  if constexpr (D == 2)
+    nu << -t.slip(1, 0), t.slip(0, 0);
+  else
+    nu = t.slip.col(0).cross(t.slip.col(1));
+  nu /= sqrt(nu.squaredNorm());
+  Vec<D> value;
+  for (int i = 0; i < D; ++i) value(i) = nu(i).value();
+  const Eigen::Matrix<AD<N>, D, 1> force = nu * AD<N>(f.dot(value));
+  for (int i = 0; i < D; ++i) G.row(i) = force(i).derivatives().transpose();
+  for (int o = 0; o < D * D; ++o) G.row(D + o) = (-t.master.col(o).dot(force)).derivatives().transpose();
+  return G;
+}
+
+template <int D>
 bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd& g, SparseMatrix& K_r) const {
   const bool new_pattern = reduction_->reduce(K, slave_rows(), K_r);  // Wᵀ K T (43), (58)
   // (44), (59): β = tr(K_ss)/D on the dummy slots.

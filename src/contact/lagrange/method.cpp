@@ -109,6 +109,7 @@ class LagrangeCoupling final : public Coupling {
       }
       t.emplace_back(lam, lam, 0.0);  // the zero block's diagonal, kept in the pattern
     }
+    add_force_variation(t);
     SparseMatrix fresh(n + m_, n + m_);
     fresh.setFromTriplets(t.begin(), t.end());
     fresh.makeCompressed();
@@ -169,6 +170,52 @@ class LagrangeCoupling final : public Coupling {
     }
     if (static_cast<int>(multipliers_.size()) != m_)
       throw SolverError("the contact multipliers do not match the constraints");
+  }
+
+  /// B's own variation, ∂(Bλ)/∂u: per slave, the derivative of its force
+  /// pair f = Σ λ_k ν_k (Elimination::force_variation, at the placed
+  /// configuration the maps belong to) with its inputs taken to u through
+  /// the placement: the slave keeps its motion along its slips and follows
+  /// its facet's along μ (frictionless: Π = 1 − μμᵀ on its own motion,
+  /// μμᵀ T_a on node a's), or entirely (stick: 0 and T_a). Left out: a
+  /// slave holding two constraints, the placement of a facet node that is
+  /// itself a slave (a chain), and μ's own variation (its term vanishes
+  /// with c): Newton converges quadratically on single constraints, with
+  /// friction too.
+  void add_force_variation(std::vector<Eigen::Triplet<double>>& t) const {
+    const SlaveRows<D> rows = e_->slave_rows();
+    const std::size_t groups = rows.slaves.size();
+    std::vector<Vec<D>> force(groups, Vec<D>::Zero()), motion(groups, Vec<D>::Zero());
+    for (int k = 0; k < m_; ++k) {
+      const Multiplier<D>& mk = multipliers_[static_cast<std::size_t>(k)];
+      force[static_cast<std::size_t>(mk.group)] += lambda_[k] * mk.force;
+      motion[static_cast<std::size_t>(mk.group)] = mk.motion;
+    }
+    std::vector<char> stick(groups, 0);
+    for (const Constraint<D>& k : e_->constraints())
+      stick[static_cast<std::size_t>(rows.slave_of[k.slave])] = k.kind == Kind::stick;
+    constexpr int N = D * (D + 1);
+    for (std::size_t c = 0; c < groups; ++c) {
+      // Every entry is kept, zero or not, so that the pattern stays while the constraints do.
+      const Eigen::MatrixXd G = force[c].isZero() ? Eigen::MatrixXd::Zero(N, N) : e_->force_variation(c, force[c]);
+      const typename Elimination<D>::Coefficients& tr = e_->local_trial(c);
+      const Mat<D> follow = stick[c] ? Mat<D>::Identity() : Mat<D>(motion[c] * motion[c].transpose());
+      const int s = rows.slaves[c];
+      auto node = [&](int a) { return a == 0 ? s : tr.nodes[static_cast<std::size_t>(a - 1)]; };
+      for (int b = 0; b <= D; ++b) {
+        // Column block b of G taken to u: the inputs' dependence on node b's displacement.
+        Eigen::Matrix<double, N, D> column;
+        if (b == 0)
+          column = G.middleCols(0, D) * (Mat<D>::Identity() - follow);
+        else
+          column = G.middleCols(b * D, D) +
+                   G.middleCols(0, D) * follow * tr.master.block(0, static_cast<Eigen::Index>(b - 1) * D, D, D);
+        for (int a = 0; a <= D; ++a)
+          for (int i = 0; i < D; ++i)
+            for (int j = 0; j < D; ++j)
+              t.emplace_back(node(a) * D + i, node(b) * D + j, column(a * D + i, j));
+      }
+    }
   }
 
   std::unique_ptr<Elimination<D>> e_;

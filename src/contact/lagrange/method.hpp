@@ -14,8 +14,11 @@
 /// where the constraint holds (elimination's enforce()) along the
 /// directions μ its trial slips miss, and β =
 /// (2/Δt²) × the mean nodal mass, so that both rows are forces. Newton
-/// solves for (u, λ) with [[K, B], [β C, 0]], C = ∂c/∂u from T (B's own
-/// variation left out: a quasi-Newton step on the same equations). At a
+/// solves for (u, λ) with [[K + ∂(Bλ)/∂u, B], [β C, 0]], C = ∂c/∂u from
+/// T, B's own variation by automatic differentiation of the zero-work
+/// kernels (Elimination::force_variation; how a Coulomb slave's force
+/// direction turns with its slip is in it), left out only for a slave
+/// holding two constraints and along chains. At a
 /// solution Wᵀ g = 0 and c = 0, elimination's equations: the trajectories
 /// agree to the solvers' tolerance. The number of equations is the free
 /// unknowns plus one per frictionless and D per stick constraint.
