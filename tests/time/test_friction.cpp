@@ -307,7 +307,7 @@ TEST(Friction, DiscDroppedWhileSlidingTakesItsImpactWithoutCutback2d) {
 // μ = 0 is the frictionless run, step for step (negative control of the
 // friction itself: without it the block does not slow down).
 TEST(Friction, ZeroFrictionIsTheFrictionlessRun) {
-  for (const char* method : {"elimination", "penalty"}) {
+  for (const char* method : {"elimination", "lagrange", "penalty"}) {
     ContactRun<2> coulomb(sliding_block(2, "coulomb", 0.0, method, 0.05));
     ContactRun<2> frictionless(sliding_block(2, "frictionless", 0.0, method, 0.05));
     while (coulomb.state.time < coulomb.scenario.time.end - 1e-9) {
@@ -344,9 +344,9 @@ std::string rolling_disc(const std::string& kind, double mu, const std::string& 
 // in a step that it ends in front of the plane has no normal force, so
 // Coulomb's spring slips for any μ while the stick kind's holds it, and
 // the runs part, 3e-4 apart after 0.1 s.)
-TEST(Friction, LargeFrictionOnARollingDiscIsTheStickRun) {
-  ContactRun<2> coulomb(rolling_disc("coulomb", 100.0, "elimination"));
-  ContactRun<2> stick(rolling_disc("stick", 0.0, "elimination"));
+void large_friction_is_the_stick_run(const std::string& method) {
+  ContactRun<2> coulomb(rolling_disc("coulomb", 100.0, method));
+  ContactRun<2> stick(rolling_disc("stick", 0.0, method));
   int contacts = 0, slipping = 0;
   while (stick.state.time < stick.scenario.time.end - 1e-9) {
     coulomb.step();
@@ -356,8 +356,8 @@ TEST(Friction, LargeFrictionOnARollingDiscIsTheStickRun) {
   }
   const double du = (coulomb.state.u - stick.state.u).norm() / stick.state.u.norm();
   const double dv = (coulomb.state.v - stick.state.v).norm() / stick.state.v.norm();
-  std::printf("[ measured ] rolling disc, mu 100 against stick after 0.1 s: u %.1e, v %.1e relative; %d slipping "
-              "slave-steps\n", du, dv, slipping);
+  std::printf("[ measured ] rolling disc, %s, mu 100 against stick after 0.1 s: u %.1e, v %.1e relative; %d "
+              "slipping slave-steps\n", method.c_str(), du, dv, slipping);
   EXPECT_GT(contacts, 0);
   EXPECT_EQ(coulomb.state.time, stick.state.time);
   EXPECT_EQ(slipping, 0);
@@ -365,6 +365,9 @@ TEST(Friction, LargeFrictionOnARollingDiscIsTheStickRun) {
   EXPECT_LE(dv, 1e-8);
   EXPECT_EQ(coulomb.state.dissipated, 0.0);
 }
+
+TEST(Friction, LargeFrictionOnARollingDiscIsTheStickRun) { large_friction_is_the_stick_run("elimination"); }
+TEST(Friction, LargeFrictionOnARollingDiscIsTheStickRunByMultipliers) { large_friction_is_the_stick_run("lagrange"); }
 
 /// The glancing spheres (a small sphere or disc sliding along a big one
 /// at 2 m/s, no gravity) with Coulomb friction μ, by `method`.
