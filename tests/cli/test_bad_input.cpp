@@ -23,19 +23,6 @@ CliResult check_with(const std::string& name, const std::string& scenario, const
   return run_cli("check scenario.toml", dir);
 }
 
-void expect_one_line_error(const CliResult& r, const std::string& what) {
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr(what)) << r.err;
-  EXPECT_THAT(r.err, ::testing::StartsWith("conserve: error: "));
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
-
 TEST(BadInput, GoodScenarioPassesCheck) {
   const CliResult r = check_with("good", kGoodScenario, cube_msh());
   EXPECT_EQ(r.exit_code, 0) << r.err;

@@ -44,13 +44,6 @@ CliResult check(const std::string& name, const std::string& scenario, const std:
   return run_cli("check scenario.toml", dir);
 }
 
-void expect_one_line_error(const CliResult& r, const std::string& what) {
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr(what)) << r.err;
-  EXPECT_THAT(r.err, ::testing::StartsWith("conserve: error: "));
-}
-
 TEST(BadInputMore, GoodTetPasses) {
   const CliResult r = check("tet_ok", kTetScenario, "tet.msh", one_tet(kTags, kCoords, "1 2 3 4"));
   EXPECT_EQ(r.exit_code, 0) << r.err;

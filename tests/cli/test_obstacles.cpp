@@ -61,14 +61,8 @@ master = "tray:surface"
 kind = "frictionless"
 )";
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
-
 /// The 1-based line of `text` on which `needle` first appears.
-int line_of(const std::string& text, const std::string& needle) {
+int line_containing(const std::string& text, const std::string& needle) {
   return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(text.find(needle)), '\n'));
 }
 
@@ -132,12 +126,6 @@ CliResult check_in(const fs::path& dir, const std::string& scenario) {
   return run_cli("check scenario.toml", dir);
 }
 
-void expect_one_line_error(const CliResult& r, const std::string& what) {
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, AllOf(::testing::StartsWith("conserve: error: "), HasSubstr(what))) << r.err;
-}
-
 TEST(Obstacles, StlObstacleAndTheSameObstacleMeshedByGmshGiveTheSameRun) {
   const fs::path dir = tray_folder("obstacle_runs");
   std::map<std::string, std::string> histories, steps;
@@ -193,7 +181,7 @@ TEST(Obstacles, CheckStatesWhichWayTheNormalsPoint) {
               HasSubstr(fmt::format("scenario.toml:{}: contact[0].master: 272 of the 272 nodes of the slave surface "
                                     "'box:boundary' start behind the bare master surface 'tray:surface' (gaps down to "
                                     "-0.21 m)",
-                                    line_of(flip, "master = "))));
+                                    line_containing(flip, "master = "))));
   // no statement for a generated surface, whose normals the generator's doc gives
   const CliResult generated = check_in(
       dir, replaced(kBoxIntoTray, "file = \"FILE\"", "generator = \"square\"\nlx = 2.0\nly = 2.0\nsize = 1.0"));
@@ -245,7 +233,7 @@ TEST(ObstacleErrors, InconsistentStlNamesTheKeyAndTheFile) {
       fmt::format("scenario.toml:{}: body[1].mesh.file (body 'tray'): {}: triangles 1 and 2 (counted from 1 in file "
                   "order) share the edge from (1, 1, 0) to (0, 0, 0) in the same direction: the surface's facets are "
                   "not consistently oriented",
-                  line_of(scenario, "file = "), (dir / "tray.stl").string()));
+                  line_containing(scenario, "file = "), (dir / "tray.stl").string()));
 }
 
 TEST(ObstacleErrors, OnlyARigidBodyMayBeASurface) {
@@ -282,7 +270,7 @@ file = "tray.stl"
   const std::string grouped = replaced(kBoxIntoTray, "file = \"FILE\"", "file = \"tray.msh\"\ngroup = \"tray\"");
   expect_one_line_error(check_in(dir, grouped), fmt::format("scenario.toml:{}: body[1].mesh.group (body 'tray'): the "
                                                             "mesh is a bare surface, without cells to choose from",
-                                                            line_of(grouped, "group = ")));
+                                                            line_containing(grouped, "group = ")));
   fs::copy_file(fs::path(CONSERVE_SOURCE_DIR) / "tests/data/msh/cube_ascii.msh", dir / "cube.msh");
   const std::string solid = replaced(kBoxIntoTray, "file = \"FILE\"", "file = \"cube.msh\"\nflip_normals = true");
   expect_one_line_error(check_in(dir, replaced(solid, "translate = [0.2, 0.0, 0.11]", "translate = [0.2, 0.0, 1.5]")),

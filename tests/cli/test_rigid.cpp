@@ -106,12 +106,6 @@ void expect_check_fails(const std::string& name, const std::string& scenario, co
   EXPECT_THAT(r.err, HasSubstr(what));
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
-
 // A surface load on a group the body's mesh has not, on a rigid body, or
 // with both kinds: one line naming the file's line and the key.
 TEST(Rigid, BadSurfaceLoadsAreRefusedNamingTheKey) {

@@ -50,12 +50,6 @@ master = "plane:surface"
 kind = "stick"
 )";
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
-
 /// The 1-based line of `text` that starts with `start`.
 int line_of(const std::string& text, const std::string& start) {
   int line = 1;

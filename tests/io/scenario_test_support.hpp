@@ -8,7 +8,7 @@
 #include "core/error.hpp"
 #include "io/scenario.hpp"
 
-namespace conserve::io::test {
+namespace conserve::io::cases {
 
 /// Folder of the test scenarios (mesh files are resolved against it).
 inline std::string scenario_dir() { return CONSERVE_SOURCE_DIR "/tests/data/scenarios"; }
@@ -54,4 +54,4 @@ inline ::testing::AssertionResult fails_with(std::string_view text, int line, st
   return ::testing::AssertionFailure() << "no InputError";
 }
 
-}  // namespace conserve::io::test
+}  // namespace conserve::io::cases

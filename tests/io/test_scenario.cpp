@@ -10,9 +10,9 @@ namespace conserve::io {
 namespace {
 
 namespace fs = std::filesystem;
-using test::case_file;
-using test::minimal;
-using test::scenario_dir;
+using cases::case_file;
+using cases::minimal;
+using cases::scenario_dir;
 
 TEST(Scenario, Full3dScenarioParsesEveryField) {
   const auto file = fs::path(scenario_dir()) / "full_3d.toml";
@@ -202,7 +202,7 @@ TEST(Scenario, TwoDimensionalBoundaries) {
 
 TEST(Scenario, AbsoluteMeshFileIsKept) {
   const auto mesh = (fs::path(scenario_dir()) / "meshes" / "cube.msh").lexically_normal();
-  const auto text = test::with_mesh("file = \"" + mesh.generic_string() + "\"\n");
+  const auto text = cases::with_mesh("file = \"" + mesh.generic_string() + "\"\n");
   const auto s = parse_scenario(text, "/nonexistent/folder/x.toml");
   EXPECT_EQ(s.bodies[0].mesh.file, mesh);
 }
@@ -218,7 +218,7 @@ TEST(Scenario, ReadScenarioMissingFileThrows) {
 }
 
 TEST(Scenario, GeneratorParametersTakenFromTheCatalog) {
-  const auto text = test::with_mesh("generator = \"box\"\nlx = 1\nly = 2\nlz = 3\nsize = 0.5\n");
+  const auto text = cases::with_mesh("generator = \"box\"\nlx = 1\nly = 2\nlz = 3\nsize = 0.5\n");
   const auto s = parse_scenario(text, case_file());
   EXPECT_EQ(s.bodies[0].mesh.parameters,
             (std::map<std::string, double>{{"lx", 1}, {"ly", 2}, {"lz", 3}, {"size", 0.5}}));

@@ -9,14 +9,14 @@
 namespace conserve::io {
 namespace {
 
-using test::case_file;
-using test::fails_with;
+using cases::case_file;
+using cases::fails_with;
 
 /// Lines 1–11: minimal() with body "a" (deformable); 12–20: the rigid body
 /// "plane" (a bare square, no material); `extra_plane` goes in after line
 /// 15 (so it is line 16 and on), `rest` after the plane.
 std::string two_bodies(std::string_view rest = "", std::string_view extra_plane = "") {
-  return test::minimal(
+  return cases::minimal(
       "[[body]]\n"                  // 12
       "name = \"plane\"\n"          // 13
       "rigid = true\n"              // 14
@@ -143,7 +143,7 @@ TEST(ScenarioRigid, NoBoundaryOnARigidBody) {
 }
 
 TEST(ScenarioRigid, TwoDimensionalRigidSegment) {
-  const auto text = "dimension = 2\n" + test::with_mesh("generator = \"disc\"\nradius = 1\nsize = 0.1\n",
+  const auto text = "dimension = 2\n" + cases::with_mesh("generator = \"disc\"\nradius = 1\nsize = 0.1\n",
                                                         "[[body]]\nname = \"ground\"\nrigid = true\nvelocity = [1, 0]\n"
                                                         "[body.mesh]\ngenerator = \"segment\"\nlx = 4\nsize = 1\n");
   const auto s = parse_scenario(text, case_file());

@@ -122,7 +122,7 @@ TEST(ScenarioKeys, EveryTableKeyHasASection) {
 }
 
 TEST(ScenarioKeys, DeclaredDefaultsEqualStructDefaults) {
-  const auto s = parse_scenario(test::minimal(), test::case_file());
+  const auto s = parse_scenario(cases::minimal(), cases::case_file());
   const Scenario plain;
   EXPECT_EQ(s.dimension, plain.dimension);
   EXPECT_EQ(s.title, plain.title);
@@ -140,7 +140,7 @@ TEST(ScenarioKeys, DeclaredDefaultsEqualStructDefaults) {
 
 TEST(ScenarioKeys, DeclaredContactDefaultsEqualStructDefaults) {
   const auto s = parse_scenario(
-      test::minimal("[[contact]]\nslave = \"a:top\"\nmaster = \"a:bottom\"\nkind = \"stick\"\n"), test::case_file());
+      cases::minimal("[[contact]]\nslave = \"a:top\"\nmaster = \"a:bottom\"\nkind = \"stick\"\n"), cases::case_file());
   ASSERT_EQ(s.contacts.size(), 1u);
   EXPECT_EQ(s.contacts[0].depth_factor, ContactSpec{}.depth_factor);
 }

@@ -9,10 +9,10 @@
 namespace conserve::io {
 namespace {
 
-using test::case_file;
-using test::fails_with;
-using test::minimal;
-using test::with_mesh;
+using cases::case_file;
+using cases::fails_with;
+using cases::minimal;
+using cases::with_mesh;
 
 // minimal(): 1 [time], 2 step, 3 end, 4 [[body]], 5 name, 6 [body.material],
 // 7 young, 8 poisson, 9 density, 10 [body.mesh], 11 file; extra text from 12.
@@ -88,7 +88,7 @@ TEST(ScenarioErrors, WrongTypes) {
   EXPECT_TRUE(
       fails_with(minimal("[output]\nvtu_every = 2.5\n"), 13, "output.vtu_every", "got a float (expected an integer"));
   EXPECT_TRUE(
-      fails_with("time = 3\n" + std::string(test::kBodyHead), 1, "time", "got an integer (expected a table [time])"));
+      fails_with("time = 3\n" + std::string(cases::kBodyHead), 1, "time", "got an integer (expected a table [time])"));
   EXPECT_TRUE(fails_with(minimal("[loads]\ngravity = [0, \"down\", 0]\n"), 13, "loads.gravity[1]", "got a string"));
   EXPECT_TRUE(fails_with(replace_line(minimal(), 11, "file = 3"), 11, "body[0].mesh.file",
                          "got an integer (expected a string)"));
@@ -104,7 +104,7 @@ TEST(ScenarioErrors, MissingKeyReportsEnclosingTableLine) {
   EXPECT_TRUE(fails_with(replace_line(minimal(), 9, ""), 6, "body[0].material.density",
                          "missing key (expected a finite number [kg/m³] > 0)"));
   EXPECT_TRUE(fails_with(replace_line(minimal(), 2, ""), 1, "time.step", "missing key"));
-  EXPECT_TRUE(fails_with(std::string(test::kBodyHead) + "file = \"meshes/cube.msh\"\n", 1, "time", "missing key"));
+  EXPECT_TRUE(fails_with(std::string(cases::kBodyHead) + "file = \"meshes/cube.msh\"\n", 1, "time", "missing key"));
   EXPECT_TRUE(fails_with(replace_line(minimal(), 5, ""), 4, "body[0].name", "missing key (expected a string)"));
   EXPECT_TRUE(fails_with(minimal("[[boundary]]\nbody = \"a\"\n"), 12, "boundary[0].group", "missing key"));
 }
@@ -175,7 +175,7 @@ TEST(ScenarioErrors, NonFiniteNumbers) {
 }
 
 TEST(ScenarioErrors, DuplicateBodyNames) {
-  EXPECT_TRUE(fails_with(minimal(test::kBodyHead) + "file = \"meshes/cube.msh\"\n", 13, "body[1].name",
+  EXPECT_TRUE(fails_with(minimal(cases::kBodyHead) + "file = \"meshes/cube.msh\"\n", 13, "body[1].name",
                          "duplicate body name 'a' (expected a name not used by body[0])"));
 }
 
@@ -208,10 +208,10 @@ TEST(ScenarioErrors, GroupNameTheOutputsCannotCarry) {
 }
 
 TEST(ScenarioErrors, ZeroBodies) {
-  EXPECT_TRUE(fails_with(std::string(test::kTime), 1, "body", "missing key (expected one or more [[body]] tables)"));
-  EXPECT_TRUE(fails_with(std::string(test::kTime) + "[output]\nvtu_every = 1\n", 1, "body", "missing key"));
-  EXPECT_TRUE(fails_with("body = []\n" + std::string(test::kTime), 1, "body", "is empty"));
-  EXPECT_TRUE(fails_with(std::string(test::kTime) + "[body]\nname = \"a\"\n", 4, "body",
+  EXPECT_TRUE(fails_with(std::string(cases::kTime), 1, "body", "missing key (expected one or more [[body]] tables)"));
+  EXPECT_TRUE(fails_with(std::string(cases::kTime) + "[output]\nvtu_every = 1\n", 1, "body", "missing key"));
+  EXPECT_TRUE(fails_with("body = []\n" + std::string(cases::kTime), 1, "body", "is empty"));
+  EXPECT_TRUE(fails_with(std::string(cases::kTime) + "[body]\nname = \"a\"\n", 4, "body",
                          "got a table (expected one or more [[body]] tables)"));
 }
 
@@ -275,7 +275,7 @@ TEST(ScenarioErrors, GeneratorParameters) {
 }
 
 TEST(ScenarioErrors, MeshFileMissingNamesResolvedPath) {
-  const auto resolved = std::filesystem::absolute(test::scenario_dir() + "/missing.msh").lexically_normal().string();
+  const auto resolved = std::filesystem::absolute(cases::scenario_dir() + "/missing.msh").lexically_normal().string();
   EXPECT_TRUE(fails_with(with_mesh("file = \"missing.msh\"\n"), 11, "body[0].mesh.file",
                          "mesh file '" + resolved + "' does not exist"));
 }
@@ -307,7 +307,7 @@ TEST(ScenarioErrors, InitialDeformationMustHavePositiveDeterminant) {
 }
 
 TEST(ScenarioErrors, SecondBodyErrorsNameIndexOne) {
-  auto text = minimal(test::kBodyHead) + "file = \"meshes/cube.msh\"\n";
+  auto text = minimal(cases::kBodyHead) + "file = \"meshes/cube.msh\"\n";
   text = replace_line(text, 13, "name = \"b\"");
   text = replace_line(text, 16, "poisson = 0.7");
   EXPECT_TRUE(fails_with(text, 16, "body[1].material.poisson", "0.7 is out of range"));

@@ -11,8 +11,8 @@
 namespace conserve::io {
 namespace {
 
-using test::case_file;
-using test::minimal;
+using cases::case_file;
+using cases::minimal;
 
 /// The InputError message of parsing `text` with `overrides` ("" if none).
 std::string error_of(const std::string& text, const std::vector<std::string>& overrides) {
@@ -134,7 +134,7 @@ TEST(ScenarioOverrides, BadOverridesFailWithOneLineNamingThem) {
   };
   expect_messages(text, cases);
   // An error in the file itself still names the file and line.
-  EXPECT_TRUE(test::fails_with(minimal("[active_set]\nscheme = \"x\"\n"), 13, "active_set.scheme", "paper"));
+  EXPECT_TRUE(cases::fails_with(minimal("[active_set]\nscheme = \"x\"\n"), 13, "active_set.scheme", "paper"));
   EXPECT_EQ(error_of(minimal("[active_set]\nscheme = \"x\"\n"), {"time.end=0.2"})
                 .rfind(case_file() + ":13: active_set.scheme: ", 0),
             0u);

@@ -24,6 +24,9 @@ inline std::string file_bytes(const std::filesystem::path& file) {
   return out.str();
 }
 
+/// The facets of a bare surface's (or an STL's) "surface" group.
+inline const Eigen::MatrixXi& all_facets(const Mesh& mesh) { return mesh.facet_groups.at("surface").facets; }
+
 /// Outward normal of facet `f` scaled by its area (3D) / length (2D).
 inline Eigen::Vector3d area_normal(const Mesh& mesh, const Eigen::MatrixXi& facets, int f) {
   Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero(), c = Eigen::Vector3d::Zero();

@@ -26,6 +26,8 @@
 namespace conserve::mesh {
 namespace {
 
+using test::all_facets;
+
 namespace fs = std::filesystem;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
@@ -64,8 +66,6 @@ std::string error_of(const fs::path& file, int dim = 3, BareSurface bare = BareS
   ADD_FAILURE() << "no InputError for " << file;
   return "";
 }
-
-const Eigen::MatrixXi& all_facets(const Mesh& mesh) { return mesh.facet_groups.at("surface").facets; }
 
 TEST(StlReader, GmshAsciiStlReadsExactlyLikeItsMsh) {
   const fs::path dir = scratch_dir("ascii");

@@ -11,6 +11,8 @@
 namespace conserve::mesh {
 namespace {
 
+using test::all_facets;
+
 using ::testing::HasSubstr;
 
 /// The unit square z = 0 as two triangles, counter-clockwise seen from +z.
@@ -30,8 +32,6 @@ Mesh tetrahedron_surface() {
   facets << 0, 0, 0, 1, 2, 1, 3, 2, 1, 3, 2, 3;
   return bare_surface(3, points, facets);
 }
-
-const Eigen::MatrixXi& all_facets(const Mesh& mesh) { return mesh.facet_groups.at("surface").facets; }
 
 TEST(SurfaceMesh, BareSurfaceHasTheGeneratorsGroups) {
   const Mesh mesh = unit_square();
