@@ -34,8 +34,9 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// deviations instead of their ratios. 16: the integrator's state. 17:
 /// the contact's release and activation times (contact::ImpactLocation);
 /// the free rigid bodies' motions. 18: the state's friction dissipation;
-/// the constraints' friction μ and slip regularization (Coulomb).
-constexpr std::uint32_t kVersion = 18;
+/// the constraints' friction μ and slip regularization (Coulomb). 19:
+/// the run statistics as every run's, then the contact method's own.
+constexpr std::uint32_t kVersion = 19;
 
 using Writer = ByteWriter;
 using Reader = ByteReader;
