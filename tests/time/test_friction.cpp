@@ -141,8 +141,9 @@ void block_slides_to_rest(const std::string& method) {
   // The near-rigid block (E = 1e9 Pa) has a round-off floor of its own:
   // its frictionless run drifts 3e-11 too. Conservation to 1e-13 is shown
   // on deformable bodies (Friction.ObliqueImpact...). The penalty's
-  // springs on it, as stiff, drift 1.5e-10.
-  EXPECT_LT(s.balance, method == "penalty" ? 2e-8 : 3e-9);
+  // springs on it, as stiff, drift 1.5e-10, and the multipliers (their
+  // extra unknowns in the solve) 3.1e-11 / 4.0e-11 (2D / 3D).
+  EXPECT_LT(s.balance, method == "penalty" ? 2e-8 : method == "lagrange" ? 5e-9 : 3e-9);
   EXPECT_TRUE(s.monotone);
   EXPECT_GT(s.slipping_steps, 250);
   EXPECT_GT(s.dissipated, 0.98 * s.initial_energy);  // what is left is the block's vibration
