@@ -73,7 +73,9 @@ template <int D>
 std::optional<Match<D>> CollisionSet<D>::match_in(const ContactPair<D>& pair, std::size_t i, const Positions<D>& x,
                                                   const Vec<D>& slave_normal, const Positions<D>* x_n) {
   const int s = pair.slave.nodes[i];
-  const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal, &pair.frames);
+  const std::vector<int> near = pair.self ? near_nodes(pair.master, s) : std::vector<int>{};
+  const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal, &pair.frames,
+                                    pair.self ? &near : nullptr);
   if (!match) return std::nullopt;
   if (over_surface<D>(x.col(s), *match, pair.master, x, pair.search.border_tolerance)) return match;
   if (x_n && entered_through<D>(pair, s, *match, *x_n, x)) return match;

@@ -39,6 +39,18 @@ struct ContactPair {
   /// Coulomb friction coefficient μ ≥ 0 of a `kind = "coulomb"` pair;
   /// none for frictionless and stick pairs.
   std::optional<double> friction;
+  /// The scenario's [[contact]] this pair comes from; a two-pass contact
+  /// gives two pairs, the second (`second_pass`) with slave and master
+  /// swapped, after every first pass.
+  int contact = -1;
+  int passes = 1;
+  bool second_pass = false;
+  /// Self-contact: slave and master are one surface; a node is not held
+  /// on the facets at it and its neighbours (near_nodes).
+  bool self = false;
+  /// Whether this pair's constraints may be left out where they repeat
+  /// another's (two passes' second, self-contact).
+  [[nodiscard]] bool yields() const { return second_pass || self; }
   SearchSettings search;
   FacetTree<D> tree;              ///< over master facets, refitted (refit) before each search
   mutable FacetFrames<D> frames;  ///< of master facets at the tree's positions, filled as searched

@@ -42,7 +42,7 @@ const std::vector<std::pair<std::string, Maker<D>>>& registry() {
       {"penalty",
        [](const io::Scenario& s, const model::Model<D>& m, const SparseMatrix&, std::vector<ContactPair<D>> p) {
          std::vector<double> penalty;
-         for (const io::ContactSpec& c : s.contacts) penalty.push_back(c.penalty);
+         for (const ContactPair<D>& pair : p) penalty.push_back(s.contacts[static_cast<std::size_t>(pair.contact)].penalty);
          return std::make_unique<PenaltyMethod<D>>(m, std::move(p), penalty,
                                                    s.contacts.front().penalty_force == io::PenaltyForce::conserving);
        }},

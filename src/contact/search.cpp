@@ -68,15 +68,34 @@ FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<
   return nodes;
 }
 
+std::vector<int> near_nodes(const ContactSurface& surface, int node) {
+  std::vector<int> out{node};
+  const int local = surface.local_node(node);
+  if (local >= 0)
+    for (const int f : surface.node_facets[static_cast<std::size_t>(local)])
+      for (Eigen::Index a = 0; a < surface.facets.rows(); ++a) out.push_back(surface.facets(a, f));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+bool has_any(const ContactSurface& surface, int f, const std::vector<int>& nodes) {
+  for (Eigen::Index a = 0; a < surface.facets.rows(); ++a)
+    if (std::binary_search(nodes.begin(), nodes.end(), surface.facets(a, f))) return true;
+  return false;
+}
+
 template <int D>
 std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& surface, const FacetTree<D>& tree,
                                     const Positions<D>& x, const SearchSettings& settings,
-                                    const std::optional<Vec<D>>& slave_normal, FacetFrames<D>* frames) {
+                                    const std::optional<Vec<D>>& slave_normal, FacetFrames<D>* frames,
+                                    const std::vector<int>* exclude) {
   std::vector<int> candidates;
   tree.query(x_s, settings.search_distance, candidates);
   InsideChoice<D> inside;
   NearestChoice<D> nearest;
   for (const int f : candidates) {
+    if (exclude && has_any(surface, f, *exclude)) continue;
     const FacetNodes<D> nodes = facet_nodes<D>(surface, f, x);
     const Projection<D> p = frames ? project<D>(x_s, frames->get(f, nodes)) : project<D>(x_s, nodes);
     if (slave_normal && p.normal.dot(*slave_normal) > 0.0) continue;  // both face the same way
@@ -160,7 +179,8 @@ std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<
   template FacetNodes<D> facet_nodes<D>(const ContactSurface&, int, const Positions<D>&);                            \
   template std::optional<Match<D>> find_master<D>(const Vec<D>&, const ContactSurface&, const FacetTree<D>&,         \
                                                   const Positions<D>&, const SearchSettings&,                        \
-                                                  const std::optional<Vec<D>>&, FacetFrames<D>*);                    \
+                                                  const std::optional<Vec<D>>&, FacetFrames<D>*,                     \
+                                                  const std::vector<int>*);                                          \
   template Match<D> follow<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double,    \
                               const Vec<D>*);                                                                        \
   template bool over_surface<D>(const Vec<D>&, const Match<D>&, const ContactSurface&, const Positions<D>&, double); \

@@ -46,11 +46,20 @@ FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<
 /// convex corners) the facet whose closed triangle/segment is nearest, ties
 /// going to the one whose normal is best aligned with x_s − its nearest
 /// point. std::nullopt if no facet qualifies.
+/// `exclude` (sorted node numbers, self-contact): facets with one of these
+/// nodes are skipped.
 template <int D>
 std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& surface, const FacetTree<D>& tree,
                                     const Positions<D>& x, const SearchSettings& settings,
                                     const std::optional<Vec<D>>& slave_normal = std::nullopt,
-                                    FacetFrames<D>* frames = nullptr);
+                                    FacetFrames<D>* frames = nullptr, const std::vector<int>* exclude = nullptr);
+
+/// Self-contact: node `node` of `surface` and its neighbours (the nodes of
+/// the facets at it), sorted: the facets a node of a surface against
+/// itself may not be held on.
+std::vector<int> near_nodes(const ContactSurface& surface, int node);
+/// Whether facet f of `surface` has one of the (sorted) `nodes`.
+bool has_any(const ContactSurface& surface, int f, const std::vector<int>& nodes);
 
 /// Whether x_s, matched to `m` by find_master (surface at positions x),
 /// lies over the surface: its projection is inside the facet up to `tol`

@@ -115,6 +115,9 @@ struct ContactSpec {
   /// Far-side cut-off: a facet counts while the slave is less than
   /// depth_factor × (its longest edge) behind it.
   double depth_factor = 0.5;
+  /// 1: the slave's nodes are held out of the master's facets; 2: also the
+  /// master's nodes out of the slave's facets (both deformable).
+  int passes = 1;
   std::string method = "elimination";  ///< constraint method (contact/method.hpp); the same for every pair
   double penalty = 0.0;                ///< penalty stiffness ε [Pa/m]; 0: automatic
   PenaltyForce penalty_force = PenaltyForce::conserving;

@@ -41,10 +41,6 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
            "a deformable slave body");
   }
   const SurfaceName master = parse_surface(s, "master", bodies);
-  if (master.body == slave.body && master.group == slave.group) {
-    s.fail("master", fmt::format("'{}:{}' is also the slave surface", master.body, master.group),
-           "a master surface other than the slave");
-  }
   ContactSpec contact;
   contact.slave_body = slave.body;
   contact.slave_group = slave.group;
@@ -61,6 +57,18 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
            "no friction key, or kind = \"coulomb\"");
   contact.friction = s.number("friction");
   contact.depth_factor = s.number("depth_factor");
+  contact.passes = s.integer("passes");
+  if (contact.passes > 2)
+    s.fail("passes", fmt::format("{} passes", contact.passes), "1 (slave nodes held) or 2 (both sides' nodes held)");
+  if (contact.passes == 2 && master.body == slave.body && master.group == slave.group)
+    s.fail("passes", fmt::format("is 2 for '{}:{}' against itself: self-contact holds every node already", master.body,
+                                 master.group),
+           "passes = 1 for a surface against itself");
+  if (contact.passes == 2 && find_body(bodies, master.body)->rigid)
+    s.fail("passes",
+           fmt::format("is 2, but the master '{}' is rigid: its nodes cannot be held out of the slave's facets",
+                       master.body),
+           "passes = 1 against a rigid master");
   contact.method = s.string("method");
   contact.penalty = s.number("penalty");
   contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
@@ -90,12 +98,16 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
         if (table.has(key))
           table.fail(key, "is read by method = \"penalty\" only",
                      fmt::format("no {} key, or method = \"penalty\"", key));
+    if (c.passes == 2 && c.method == "lagrange")
+      table.fail("passes",
+                 "is 2 with method = \"lagrange\": the multipliers do not yet leave out the second pass's "
+                 "constraints that repeat the first's",
+                 "passes = 2 with method = \"elimination\" or \"penalty\"");
     if (!contacts.empty() && c.penalty_force != contacts.front().penalty_force)
       table.fail("penalty_force", "differs from contact[0]'s; one force evaluation serves every pair",
                  "the same penalty_force in every [[contact]]");
-    // Direct elimination holds one side of a pair of surfaces: with both
-    // directions, slaves of each would sit on facets of each other's nodes,
-    // a cycle the elimination cannot order (contact/elimination/elimination_impl.hpp).
+    // Both directions of one pair of surfaces are one contact with
+    // passes = 2, which holds the second pass's repeats apart.
     const std::string slave = slave_name(c), master = master_name(c);
     for (std::size_t j = 0; j < contacts.size(); ++j) {
       const std::string earlier_slave = slave_name(contacts[j]), earlier_master = master_name(contacts[j]);
@@ -105,10 +117,9 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
       }
       if (earlier_slave == master && earlier_master == slave) {
         table.fail("master",
-                   fmt::format("contact[{}] holds the same two surfaces the other way round ('{}' on '{}'); direct "
-                               "elimination holds one side, and nodes of each would be the other's masters",
-                               j, master, slave),
-                   "one direction per pair of surfaces: keep the contact whose slave is the finer mesh");
+                   fmt::format("contact[{}] holds the same two surfaces the other way round ('{}' on '{}')", j,
+                               master, slave),
+                   "one contact per pair of surfaces, with passes = 2 to hold both sides' nodes");
       }
     }
     contacts.push_back(std::move(c));

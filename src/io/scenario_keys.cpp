@@ -480,7 +480,8 @@ SectionSpec contact_section() {
               {.name = "master",
                .type = KeyType::string,
                .required = true,
-               .doc = "master surface, \"body\" or \"body:group\" (as for `slave`); not the slave surface itself"},
+               .doc = "master surface, \"body\" or \"body:group\" (as for `slave`); the slave surface itself for "
+                      "self-contact (a node is not held on the facets at it and its neighbours)"},
               {.name = "kind",
                .type = KeyType::choice,
                .required = true,
@@ -501,6 +502,13 @@ SectionSpec contact_section() {
                .min = above(0),
                .doc = "far-side cut-off: a facet counts while the slave node is less than depth_factor × "
                       "(the facet's longest edge) behind it"},
+              {.name = "passes",
+               .type = KeyType::integer,
+               .default_value = "1",
+               .min = at_least(1),
+               .doc = "1: the slave surface's nodes are held out of the master's facets; 2: the master's nodes "
+                      "out of the slave's facets too (two-pass contact: neither side penetrates the other; the "
+                      "master must be deformable; method `elimination` or `penalty`)"},
               {.name = "method",
                .type = KeyType::choice,
                .default_value = "elimination",

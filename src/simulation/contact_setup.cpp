@@ -53,7 +53,29 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     // Round-off of positions of the model's size: a node lying on a surface
     // (gap 0 up to round-off) is not activated, one behind it by more is.
     pair.search.penetration_tolerance = 1e-13 * model.size();
+    pair.contact = static_cast<int>(i);
+    pair.passes = spec.passes;
+    pair.self = spec.slave_body == spec.master_body && spec.slave_group == spec.master_group;
     pairs.push_back(std::move(pair));
+  }
+  // Two passes: the master's nodes against the slave's facets, the broad
+  // phase's radius from the slave's facets. Each node then holds its
+  // constraints on the other side, and slaves of both sides on each
+  // other's facets are eliminated together (contact/elimination/).
+  const std::size_t first = pairs.size();
+  for (std::size_t p = 0; p < first; ++p) {
+    if (scenario.contacts[p].passes < 2) continue;
+    contact::ContactPair<D> second;
+    second.slave = pairs[p].master;
+    second.master = pairs[p].slave;
+    second.kind = pairs[p].kind;
+    second.friction = pairs[p].friction;
+    second.search = pairs[p].search;
+    second.search.search_distance = second.search.depth_factor * longest_edge(second.master, model);
+    second.contact = pairs[p].contact;
+    second.passes = 2;
+    second.second_pass = true;
+    pairs.push_back(std::move(second));
   }
   return pairs;
 }

@@ -122,6 +122,7 @@ void add_contact(Builder& f, std::size_t i, const io::ContactSpec& c) {
                                                                 : "frictionless");
   if (c.kind == io::ContactKind::coulomb) f.setting(name + "friction", fmt::format("{}", c.friction));
   f.setting(name + "depth_factor", fmt::format("{}", c.depth_factor));
+  if (c.passes != 1) f.setting(name + "passes", fmt::format("{}", c.passes));
   f.setting(name + "method", c.method);
   if (c.method == "penalty") {
     f.setting(name + "penalty", fmt::format("{}", c.penalty));

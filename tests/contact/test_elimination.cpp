@@ -1,6 +1,6 @@
 // The direct-elimination map T (docs/theory.md, "Direct elimination
 // (33)–(65)"): Δu_s = N Δu_m (35) or N Δu_m + τ Δξ (49), chains by
-// substitution, cycles refused, the reduced residual (41), the dummy diagonal
+// substitution, cycles solved together, the reduced residual (41), the dummy diagonal
 // β = tr(K_ss)/D (44), and the reduced tangent's Wᵀ K T (43) against the
 // plain matrix products, with its pattern kept between calls.
 #include <gmock/gmock.h>
@@ -71,9 +71,49 @@ TEST(Elimination, ChainsAreComposed) {
   EXPECT_LT((du.segment<3>(0) - du0).norm(), 1e-15);
 }
 
-TEST(Elimination, CyclesAreRefused) {
-  std::vector<Constraint<3>> cycle{stick(0, {1, 2, 3}, 0.2, 0.2), stick(1, {0, 5, 6}, 0.2, 0.2)};
-  EXPECT_THAT([&] { Elimination<3>(7, cycle); }, ::testing::ThrowsMessage<SolverError>(::testing::HasSubstr("cycle")));
+// Two passes and self-contact make cycles: a slave's master node is held
+// on a facet of the slave. Their rows are solved together,
+// (I − C_KK) Δu_K = C_K,ext Δu_ext + slips, so every constraint of the
+// cycle holds; a cycle whose constraints repeat each other (the slaves on
+// each other's nodes) is refused as redundant.
+TEST(Elimination, CyclesAreSolvedTogether) {
+  std::vector<Constraint<3>> cycle{stick(0, {1, 2, 3}, 0.2, 0.3), stick(1, {0, 5, 6}, 0.1, 0.2)};
+  const Elimination<3> e(7, cycle);
+  const Eigen::VectorXd q = random_vector(21, 3);
+  Eigen::VectorXd du;
+  e.expand(q, du);
+  const Vec3 du0 = 0.5 * du.segment<3>(3) + 0.2 * q.segment<3>(6) + 0.3 * q.segment<3>(9);
+  const Vec3 du1 = 0.7 * du.segment<3>(0) + 0.1 * q.segment<3>(15) + 0.2 * q.segment<3>(18);
+  EXPECT_GT(du.segment<3>(0).norm(), 0.1);
+  EXPECT_LT((du.segment<3>(0) - du0).norm(), 1e-15);
+  EXPECT_LT((du.segment<3>(3) - du1).norm(), 1e-15);
+  // Frictionless with slips: each slave's normal motion follows its facet.
+  Constraint<3> a = cycle[0], b = cycle[1];
+  a.kind = b.kind = Kind::frictionless;
+  a.tangents << 1, 0, 0, 1, 0, 0;
+  b.tangents << 1, 0, 0, 0, 1, 0;  // b's normal is ŷ
+  std::vector<Constraint<3>> sliding{a, b};
+  const Elimination<3> f(7, sliding);
+  f.expand(q, du);
+  auto point = [&](const Constraint<3>& c) {
+    const Vec3 N = facet_shape<3>(c.xi);
+    Vec3 p = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) p += N(k) * du.segment<3>(3 * c.master[k]);
+    return p;
+  };
+  EXPECT_LT(std::abs(du.segment<3>(0).z() - point(a).z()), 1e-15);
+  EXPECT_LT(std::abs(du.segment<3>(3).y() - point(b).y()), 1e-15);
+  // The residual passes through the transposed rows: r = Wᵀ g.
+  const Eigen::VectorXd g = random_vector(21, 4);
+  Eigen::VectorXd r;
+  f.reduce_residual(g, r);
+  const Eigen::VectorXd expected = f.test_map().transpose() * g;
+  EXPECT_GT(expected.norm(), 1.0);
+  EXPECT_LT((r - expected).norm(), 1e-14);
+  // Each slave on the other's node: the same constraint twice.
+  std::vector<Constraint<3>> redundant{stick(0, {1, 2, 3}, 0.0, 0.0), stick(1, {0, 5, 6}, 0.0, 0.0)};
+  EXPECT_THAT([&] { Elimination<3>(7, redundant); },
+              ::testing::ThrowsMessage<SolverError>(::testing::HasSubstr("redundant")));
   std::vector<Constraint<3>> twice{stick(0, {1, 2, 3}, 0.2, 0.2), stick(0, {4, 5, 6}, 0.2, 0.2)};
   EXPECT_THROW(Elimination<3>(7, twice), SolverError);
 }

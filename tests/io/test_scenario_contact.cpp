@@ -210,18 +210,18 @@ TEST(ScenarioContact, EmptyGroupName) {
   EXPECT_TRUE(fails_with(contact("a", "plane:"), 23, "contact[0].master", "empty group name"));
 }
 
-TEST(ScenarioContact, SlaveAndMasterMustDiffer) {
-  EXPECT_TRUE(fails_with(contact("a:top", "a:top"), 23, "contact[0].master",
-                         "'a:top' is also the slave surface (expected a master surface other than the slave)"));
-  EXPECT_TRUE(fails_with(contact("a", "a:boundary"), 23, "contact[0].master", "'a:boundary' is also the slave"));
+// A surface against itself is self-contact, held in one pass.
+TEST(ScenarioContact, ASurfaceAgainstItselfIsSelfContact) {
+  const auto s = parse_scenario(contact("a", "a:boundary"), case_file());
+  EXPECT_EQ(s.contacts[0].slave_group, s.contacts[0].master_group);
+  EXPECT_TRUE(fails_with(contact("a:top", "a:top", "passes = 2\n"), 25, "contact[0].passes",
+                         "is 2 for 'a:top' against itself: self-contact holds every node already"));
 }
 
-// Two contacts between the same two surfaces, swapped (two-pass contact),
-// or one given twice. Direct elimination holds one side of a pair of
-// surfaces: in both directions, a slave of each would sit on a facet of a
-// node of the other, and the run failed at the first contact with
-// "contact constraints form a cycle" (the §6.2 rings at step 242, after
-// its cutbacks). Refused when the file is read.
+// Two contacts between the same two surfaces, swapped, or one given
+// twice: one contact with passes = 2 holds both sides' nodes (and leaves
+// out the second pass's constraints that repeat the first's). Refused
+// when the file is read.
 TEST(ScenarioContact, APairOfSurfacesIsGivenOnceInOneDirection) {
   const std::string swapped = "[[contact]]\nslave = \"a:bottom\"\nmaster = \"a:top\"\nkind = \"stick\"\n";
   EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", swapped), 27, "contact[1].master",
@@ -232,6 +232,18 @@ TEST(ScenarioContact, APairOfSurfacesIsGivenOnceInOneDirection) {
   // Different groups of the same bodies stay allowed, in either direction.
   const std::string other = "[[contact]]\nslave = \"a:side\"\nmaster = \"a:top\"\nkind = \"stick\"\n";
   EXPECT_NO_THROW(parse_scenario(contact("a:top", "a:bottom", other), case_file()));
+}
+
+// passes: 1 (the default) or 2, two only against a deformable master.
+TEST(ScenarioContact, PassesAreOneOrTwoAgainstADeformableMaster) {
+  EXPECT_EQ(parse_scenario(contact("a:top", "a:bottom"), case_file()).contacts[0].passes, 1);
+  EXPECT_EQ(parse_scenario(contact("a:top", "a:bottom", "passes = 2\n"), case_file()).contacts[0].passes, 2);
+  EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 3\n"), 25, "contact[0].passes", "3 passes"));
+  EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 0\n"), 25, "contact[0].passes", ""));
+  EXPECT_TRUE(fails_with(contact("a", "plane", "passes = 2\n"), 25, "contact[0].passes",
+                         "is 2, but the master 'plane' is rigid"));
+  EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 2\nmethod = \"lagrange\"\n"), 25,
+                         "contact[0].passes", "is 2 with method = \"lagrange\""));
 }
 
 TEST(ScenarioContact, RigidBodyCannotBeTheSlave) {
@@ -252,7 +264,7 @@ TEST(ScenarioContact, RangesAndUnknownKeys) {
   EXPECT_TRUE(fails_with(contact("a", "plane", "depth_factor = 0\n"), 25, "contact[0].depth_factor",
                          "0 is out of range (expected a finite number > 0)"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "mu = 0.3\n"), 25, "contact[0].mu",
-                         "unknown key 'mu' (expected one of: slave, master, kind, friction, depth_factor, method, penalty, "
+                         "unknown key 'mu' (expected one of: slave, master, kind, friction, depth_factor, passes, method, penalty, "
                          "penalty_force)"));
   EXPECT_TRUE(fails_with(contact("a", "plane", "[active_set]\nmax_passes = 0\n"), 26, "active_set.max_passes",
                          "0 is out of range (expected an integer ≥ 1)"));

@@ -75,6 +75,7 @@ struct Drift {
   double counted = 0.0;      ///< E + Σ contact_released's drift
   double released = 0.0;    ///< Σ contact_released [J]
   double penetration = 0.0;  ///< the deepest slave node behind a facet [m]
+  double master_penetration = 0.0;  ///< the deepest master node behind a facet of its pair's slave [m]
   double spring = 0.0;       ///< the largest contact energy [J]
   int contact_steps = 0;     ///< steps ending with a contact carrying force
 };
@@ -98,6 +99,7 @@ Drift measure(ContactRun<D>& run) {
     r.linear = std::max(r.linear, (d.linear - d0.linear).cwiseAbs().maxCoeff() / l_ref);
     r.angular = std::max(r.angular, (d.angular - d0.angular).cwiseAbs().maxCoeff() / (l_ref * run.problem.model.size()));
     r.penetration = std::max(r.penetration, c.slave_penetration);
+    r.master_penetration = std::max(r.master_penetration, c.master_penetration);
     r.spring = std::max(r.spring, c.contact_energy);
     r.contact_steps += run.method && !run.method->contact_forces().empty();
   }

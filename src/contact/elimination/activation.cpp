@@ -58,7 +58,9 @@ Constraint<D> make_constraint(const ContactPair<D>& pr, int p, int s, const Matc
 
 template <int D>
 bool forms_crease(const ContactPair<D>& pr, const Constraint<D>& held, const Match<D>& end) {
-  if (held.facet == end.facet || held.push || held.rate || pr.kind != Kind::frictionless) return false;
+  // Two passes hold the crease's node out of the slave's facets instead.
+  if (held.facet == end.facet || held.push || held.rate || pr.kind != Kind::frictionless || pr.passes > 1)
+    return false;
   const auto& facets = pr.master.facets;
   bool shared = false;
   for (int a = 0; a < D; ++a)
@@ -82,11 +84,34 @@ double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions
   return kPushOut * zero_work::non_rigid_part<D, D + 1, double>(y, d).norm();
 }
 
+template <int D>
+bool repeats(const Constraint<D>& a, const Constraint<D>& b, const Positions<D>& x) {
+  // The weight of c's slave at `node` on its facet, and the facet's normal.
+  auto weight = [&](const Constraint<D>& c, int node, Vec<D>& normal) {
+    for (int k = 0; k < D; ++k) {
+      if (c.master[k] != node) continue;
+      FacetNodes<D> facet;
+      for (int j = 0; j < D; ++j) facet.col(j) = x.col(c.master[j]);
+      const Projection<D> p = project<D>(x.col(c.slave), facet);
+      normal = p.normal;
+      return facet_shape<D>(p.xi)(k);
+    }
+    return 0.0;
+  };
+  Vec<D> na, nb;
+  const double wa = weight(a, b.slave, na);
+  if (wa == 0.0) return false;
+  const double wb = weight(b, a.slave, nb);
+  const double cosine = na.dot(nb);
+  return std::abs(1.0 - wa * wb * cosine * cosine) < kRepeatPivot;
+}
+
 #define CONSERVE_ACTIVATION(D)                                                                                   \
   template Constraint<D> make_constraint<D>(const ContactPair<D>&, int, int, const Match<D>&, const Positions<D>&, \
                                             const Positions<D>&, const ActivationContext&);                      \
   template bool forms_crease<D>(const ContactPair<D>&, const Constraint<D>&, const Match<D>&);                  \
-  template double push_out<D>(const Constraint<D>&, const Positions<D>&, const Positions<D>&);
+  template double push_out<D>(const Constraint<D>&, const Positions<D>&, const Positions<D>&);                  \
+  template bool repeats<D>(const Constraint<D>&, const Constraint<D>&, const Positions<D>&);
 CONSERVE_ACTIVATION(2)
 CONSERVE_ACTIVATION(3)
 #undef CONSERVE_ACTIVATION

@@ -61,6 +61,31 @@ Constraint<D> make_constraint(const ContactPair<D>& pr, int p, int s, const Matc
 template <int D>
 bool forms_crease(const ContactPair<D>& pr, const Constraint<D>& held, const Match<D>& end);
 
+/// Two passes (and self-contact) hold each side's nodes on the other's
+/// facets. Where a slave sits on a node m of its facet and m is held on a
+/// facet at that slave, the two constraints say one thing (the two nodes
+/// keep together) and eliminating both is singular: their normal motions
+/// couple by 1 − w_a w_b (n_a·n_b)², w_a the weight of a's slave at b's
+/// and n_a a's facet normal. Below this the two repeat each other (the
+/// slaves are within about half of it of a facet of each other's node).
+inline constexpr double kRepeatPivot = 1e-2;
+
+/// Whether constraints a and b repeat each other (kRepeatPivot) at
+/// positions x: each slave's weight at the other is that of its
+/// projection on its facet there.
+template <int D>
+bool repeats(const Constraint<D>& a, const Constraint<D>& b, const Positions<D>& x);
+
+/// Of two constraints that repeat each other, whether k is the one left
+/// out: its pair yields (ContactPair::yields) and the other's does not,
+/// or both do and k's slave is the larger node number.
+template <int D>
+[[nodiscard]] bool gives_way(const Constraint<D>& k, const Constraint<D>& other, const std::vector<ContactPair<D>>& pairs) {
+  const bool mine = pairs[static_cast<std::size_t>(k.pair)].yields();
+  const bool theirs = pairs[static_cast<std::size_t>(other.pair)].yields();
+  return mine && (!theirs || other.slave < k.slave);
+}
+
 /// How far frictionless constraint c's slave may be moved out towards its
 /// facet in a step from positions x_a to x_b (read at the constraint's
 /// nodes) at zero work with a force close to the normal: kPushOut |w|, w

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <unordered_map>
 
 
 namespace conserve::contact {
@@ -291,11 +292,39 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   std::vector<std::vector<double>> active_gap(static_cast<std::size_t>(collisions_.size()));  // per pair, per slave
   for (int p = 0; p < collisions_.size(); ++p) active_gap[p].assign(pair(p).slave.nodes.size(), nan);
   std::vector<Constraint<D>> activated;
+  // Constraints by slave node, active and activated here, for repeats().
+  std::unordered_multimap<int, std::pair<bool, std::size_t>> by_slave;
+  // Whether c repeats another constraint (any, or only one it gives way to).
+  auto repeated = [&](const Constraint<D>& c, bool yielding) {
+    for (const int m : c.master)
+      for (auto [it, end] = by_slave.equal_range(m); it != end; ++it) {
+        const auto [fresh, k] = it->second;
+        const Constraint<D>& other = fresh ? activated[k] : active_[k];
+        if ((!yielding || gives_way(c, other, collisions_.pairs())) && repeats(c, other, x_np1)) return true;
+      }
+    return false;
+  };
+  // Slaves that came onto each other's nodes while held: the second pass's
+  // constraint goes (the step is solved again without it).
+  for (std::size_t k = 0; k < active_.size(); ++k) by_slave.emplace(active_[k].slave, std::make_pair(false, k));
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    if (!pair(active_[k].pair).yields() || !repeated(active_[k], true)) continue;
+    active_.erase(active_.begin() + static_cast<std::ptrdiff_t>(k));
+    normal_forces_.erase(normal_forces_.begin() + static_cast<std::ptrdiff_t>(k));
+    ++counts.repeats;
+    index_active();
+    return SetChange::changed;
+  }
   double deepest = 0.0, min_gap = inf, max_gap = -inf;
   collisions_.for_each_match(x_np1, [&](int p, std::size_t i, int s, const Match<D>& match) {
     deepest = std::max(deepest, -match.projection.gap);
     if (index_.active_in(p, i)) active_gap[p][i] = match.projection.gap;
-    if (const auto c = activation(p, i, s, match, x_n, x_np1)) {
+    if (auto c = activation(p, i, s, match, x_n, x_np1)) {
+      if (repeated(*c, false)) {
+        ++counts.repeats;
+        return;
+      }
+      by_slave.emplace(c->slave, std::make_pair(true, activated.size()));
       if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(*c, match, x_n));
       if (index_.active_in(p, i)) ++counts.creases;
       index_.mark(*c, collisions_.pairs());  // a node on two slave surfaces or at a crease: a third is refused

@@ -18,7 +18,9 @@
 /// automatic differentiation of the zero-work kernels and β = tr(K_ss)/D
 /// on the dummy diagonal (44)/(59). A slave whose master node is itself a
 /// slave (a chain) is expanded by substitution in both maps (V is then
-/// taken to first order through the chained rows); a cycle is refused.
+/// taken to first order through the chained rows); slaves that depend on
+/// each other in a cycle (two passes, self-contact) are solved together,
+/// and a cycle of repeated constraints is refused as redundant.
 /// A node on two slave surfaces may hold two frictionless constraints (of
 /// two pairs, with facet normals n_1, n_2 not parallel), and so may a
 /// slave at a crease of one master surface (two facets that share a node,
@@ -38,6 +40,14 @@
 #include "contact/elimination/tangent_reduction.hpp"
 
 namespace conserve::contact {
+
+/// Eliminated slaves that depend on each other through their master nodes
+/// (a cycle), or one slave: `members` are groups, `coupling` is I − C_KK
+/// of the cycle's coefficients on its own slaves (empty for one slave).
+struct EliminationComponent {
+  std::vector<int> members;
+  Eigen::MatrixXd coupling;
+};
 
 template <int D>
 class Elimination {
@@ -171,7 +181,12 @@ class Elimination {
     Eigen::Matrix<double, D, 2 * D + 1> x, dx;
   };
   [[nodiscard]] PairKernel pair_input(const Group& g, const Eigen::VectorXd& u) const;
+  /// Marks the second pass's constraints that repeat another at u (suspended_).
+  void suspend_repeats(const Eigen::VectorXd* u);
+  /// Groups of the constraints not suspended.
   void make_groups();
+  /// The groups' local coefficients and composed rows at u.
+  void compose(const Eigen::VectorXd* u);
   void build(const Eigen::VectorXd* u);
   [[nodiscard]] Local local(const Constraint<D>& k, const Eigen::VectorXd& u) const;
   /// Two constraints on one slave: the trial map from the facets' normals
@@ -190,6 +205,13 @@ class Elimination {
   /// two facets of a crease pair are kept apart (never one, nor two within
   /// kCreaseSine of coplanar).
   void place_pair(const Group& g, Positions<D>& x, Positions<D>& x_mid);
+  /// Puts group g's slave where its constraints hold (enforce()).
+  void place(const Group& g, Positions<D>& x, Positions<D>& x_mid);
+  /// How that placement moves with its facets' nodes, to first order.
+  [[nodiscard]] Coefficients placement(const Group& g, const Positions<D>& x) const;
+  /// Places the slaves of a cycle (groups `members`) together.
+  void place_cycle(const std::vector<int>& members, Positions<D>& x, Positions<D>& x_mid);
+  static constexpr int kCycleIterations = 20;
   [[nodiscard]] SparseMatrix assemble(const std::vector<BlockRow<D>>& rows) const;
   void add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
   void add_pair_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
@@ -210,7 +232,9 @@ class Elimination {
   std::vector<BlockRow<D>> trial_rows_, test_rows_;  ///< per group: the slave's rows of T and W (chains composed)
   std::vector<Coefficients> test_;                   ///< per group: its test coefficients
   std::vector<Coefficients> trial_;                  ///< per group: its trial coefficients (before chains)
-  std::vector<int> order_;                           ///< groups, each after those of its chained master nodes
+  /// Groups that depend on each other, each component after those of its
+  /// members' master nodes (the test map's).
+  std::vector<EliminationComponent> components_;
   std::shared_ptr<TangentReduction<D>> reduction_;   ///< K_r's pattern and maps, kept while the nodes are unchanged
   static constexpr int kMaxSwitches = 2;
   /// Frictionless slaves whose ā_s points closer than this to the facet
@@ -222,6 +246,8 @@ class Elimination {
   bool switch_to_rate();
   std::vector<double> cosine_;  ///< per group: â·n at the last build (1 if not applicable)
   std::vector<int> switches_;  ///< facet switches per constraint in this solve
+  /// Per constraint: left out of the maps at this iterate (make_groups).
+  std::vector<char> suspended_;
 };
 
 template <int D>

@@ -8,82 +8,177 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <optional>
+#include <unordered_map>
 
 #include <unsupported/Eigen/AutoDiff>
 
+#include "contact/elimination/activation.hpp"
 #include "contact/elimination/zero_work.hpp"
 #include "core/error.hpp"
 
 namespace conserve::contact {
 namespace {
 
+/// The smallest pivot of a cycle's coupling (or of its placement's
+/// Jacobian), relative to the largest, below which the cycle counts as
+/// singular: its rows would amplify the motions by more than its inverse.
+constexpr double kRedundantPivot = 1e-10;
+
+/// A cycle whose coupling I − C_KK is singular (RowBuilder): its groups.
+struct SingularCycle {
+  std::vector<int> members;
+};
+
 /// Composes every slave's rows of a map, in node blocks, from the
-/// constraints' local coefficients by substitution (chains), refusing
-/// cycles. Structural: every node the coefficients name is kept, with its
-/// block even when that is zero, so that the rows' nodes (and the reduced
-/// tangent's pattern) depend on the constraints' nodes only.
+/// constraints' local coefficients. A chain (a slave's master node is
+/// another's slave) is composed by substitution; a cycle (two passes or
+/// self-contact: slaves of each surface on the other's facets) is a
+/// strongly connected component K of the groups' dependencies, solved
+/// together: Δx_K = C_KK Δx_K + C_K,ext Δx_ext + slips, so the rows are
+/// (I − C_KK)⁻¹ times the rest. A component whose I − C_KK is singular
+/// (the slaves on each other's nodes: the same constraint twice) is
+/// refused as redundant. Structural: every node the coefficients name is
+/// kept, with its block even when that is zero, so that the rows' nodes
+/// (and the reduced tangent's pattern) depend on the constraints' nodes
+/// only.
 template <int D>
 class RowBuilder {
  public:
   using Coefficients = typename Elimination<D>::Coefficients;
+  using Component = EliminationComponent;
+
   /// `slaves`: per group, its slave node (distinct); `local`: per group,
   /// its coefficients.
   RowBuilder(int num_nodes, const std::vector<int>& slaves, std::vector<const Coefficients*> local)
-      : slaves_(slaves), local_(std::move(local)), of_node_(num_nodes, -1), state_(slaves.size(), 0), rows_(slaves.size()) {
+      : slaves_(slaves), local_(std::move(local)), of_node_(num_nodes, -1), rows_(slaves.size()) {
     for (std::size_t c = 0; c < slaves.size(); ++c) of_node_[slaves[c]] = static_cast<int>(c);
+    index_.assign(slaves.size(), -1);
+    low_.assign(slaves.size(), 0);
+    on_stack_.assign(slaves.size(), 0);
+    for (std::size_t c = 0; c < slaves.size(); ++c)
+      if (index_[c] < 0) visit(static_cast<int>(c));
   }
 
   /// The D rows of group c's slave.
-  const BlockRow<D>& rows(int c) {
-    if (state_[c] == 2) return rows_[c];
-    if (state_[c] == 1)
-      throw SolverError(fmt::format(
-          "contact constraints form a cycle through slave node {} (each slave's master is another's slave); "
-          "choose the contact pairs so that no body is both slave and master of the same nodes",
-          slaves_[c]));
-    state_[c] = 1;
-    const Coefficients& l = *local_[c];
-    std::map<int, Mat<D>> out;
-    for (std::size_t a = 0; a < l.nodes.size(); ++a) add_node(out, l.nodes[a], l.master.middleCols(a * D, D));
-    // (49): slip unknowns in the slave's first slots (zero for stick)
-    block(out, slaves_[c]).template leftCols<D - 1>() += l.slip;
-    BlockRow<D>& row = rows_[c];
-    for (const auto& [node, b] : out) {
-      row.nodes.push_back(node);
-      row.blocks.push_back(b);
-    }
-    state_[c] = 2;
-    order_.push_back(c);
-    return row;
-  }
-
-  /// Groups in the order their rows were completed: every group after
-  /// those of its chained master nodes.
-  [[nodiscard]] const std::vector<int>& order() const { return order_; }
+  const BlockRow<D>& rows(int c) const { return rows_[c]; }
+  /// The components, each after those its members' master nodes belong to.
+  [[nodiscard]] const std::vector<Component>& components() const { return components_; }
 
  private:
   static Mat<D>& block(std::map<int, Mat<D>>& out, int node) {
     return out.try_emplace(node, Mat<D>::Zero()).first->second;
   }
 
-  /// Adds C δx_node (C: D × D) to the rows.
-  void add_node(std::map<int, Mat<D>>& out, int node, const Mat<D>& C) {
-    if (of_node_[node] < 0) {
-      block(out, node) += C;
+  // Tarjan's strongly connected components: a component is completed
+  // after every component its members depend on.
+  void visit(int c) {
+    index_[c] = low_[c] = next_index_++;
+    stack_.push_back(c);
+    on_stack_[c] = 1;
+    for (const int node : local_[c]->nodes) {
+      const int d = of_node_[node];
+      if (d < 0) continue;
+      if (index_[d] < 0) {
+        visit(d);
+        low_[c] = std::min(low_[c], low_[d]);
+      } else if (on_stack_[d]) {
+        low_[c] = std::min(low_[c], index_[d]);
+      }
+    }
+    if (low_[c] != index_[c]) return;
+    Component k;
+    for (int d = -1; d != c;) {
+      d = stack_.back();
+      stack_.pop_back();
+      on_stack_[d] = 0;
+      k.members.push_back(d);
+    }
+    std::reverse(k.members.begin(), k.members.end());
+    compose(k);
+    components_.push_back(std::move(k));
+  }
+
+  /// Rows of a component's members from their coefficients: nodes outside
+  /// the component are free or completed slaves (substituted); members'
+  /// own slips sit in their own node blocks.
+  void compose(Component& k) {
+    const auto m = static_cast<int>(k.members.size());
+    std::map<int, int> member;  // slave node → position in the component
+    for (int i = 0; i < m; ++i) member[slaves_[k.members[i]]] = i;
+    std::vector<std::map<int, Mat<D>>> outside(static_cast<std::size_t>(m));
+    Eigen::MatrixXd coupling = Eigen::MatrixXd::Identity(D * m, D * m);
+    bool cycle = m > 1;
+    for (int i = 0; i < m; ++i) {
+      const int c = k.members[i];
+      const Coefficients& l = *local_[c];
+      auto& out = outside[i];
+      for (std::size_t a = 0; a < l.nodes.size(); ++a) {
+        const int node = l.nodes[a];
+        const auto C = l.master.middleCols(a * D, D);
+        if (const auto j = member.find(node); j != member.end()) {
+          coupling.block(i * D, j->second * D, D, D) -= C;
+          cycle = true;
+          continue;
+        }
+        const int d = of_node_[node];
+        if (d < 0) {
+          block(out, node) += C;
+          continue;
+        }
+        const BlockRow<D>& sub = rows_[d];
+        for (std::size_t b = 0; b < sub.nodes.size(); ++b) block(out, sub.nodes[b]) += C * sub.blocks[b];
+      }
+      // (49): slip unknowns in the slave's first slots (zero for stick)
+      block(out, slaves_[c]).template leftCols<D - 1>() += l.slip;
+    }
+    if (!cycle) {
+      store(k.members[0], outside[0]);
       return;
     }
-    const BlockRow<D>& sub = rows(of_node_[node]);
-    for (std::size_t b = 0; b < sub.nodes.size(); ++b) block(out, sub.nodes[b]) += C * sub.blocks[b];
+    // The right-hand side's columns: every node some member's rest names.
+    std::map<int, int> column;
+    for (const auto& out : outside)
+      for (const auto& entry : out) column.try_emplace(entry.first, 0);
+    int next = 0;
+    for (auto& entry : column) entry.second = next++;
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(D * m, D * next);
+    for (int i = 0; i < m; ++i)
+      for (const auto& [node, b] : outside[i]) rhs.block(i * D, column[node] * D, D, D) = b;
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(coupling);
+    // Round-off of the coefficients (O(1)) leaves a pivot of a singular
+    // coupling near 1e-16; one of a genuine cycle is at least the part of
+    // the slaves' weights outside it.
+    lu.setThreshold(kRedundantPivot);
+    if (lu.rank() < D * m) throw SingularCycle{k.members};
+    const Eigen::MatrixXd solved = lu.solve(rhs);
+    for (int i = 0; i < m; ++i) {
+      std::map<int, Mat<D>> out;
+      for (const auto& [node, j] : column) out[node] = solved.block(i * D, j * D, D, D);
+      store(k.members[i], out);
+    }
+    k.coupling = std::move(coupling);
+  }
+
+  void store(int c, const std::map<int, Mat<D>>& out) {
+    BlockRow<D>& row = rows_[c];
+    for (const auto& [node, b] : out) {
+      row.nodes.push_back(node);
+      row.blocks.push_back(b);
+    }
   }
 
   const std::vector<int>& slaves_;
   std::vector<const Coefficients*> local_;
   std::vector<int> of_node_;
-  std::vector<char> state_;  ///< 0 new, 1 being expanded, 2 done
+  std::vector<int> index_, low_;
+  std::vector<char> on_stack_;
+  std::vector<int> stack_;
+  int next_index_ = 0;
   std::vector<BlockRow<D>> rows_;
-  std::vector<int> order_;
+  std::vector<Component> components_;
 };
 
 /// N(ξ) ⊗ 1 over a facet's nodes: D × D².
@@ -97,6 +192,23 @@ Eigen::MatrixXd shape_block(const Xi<D>& xi) {
 
 template <int N>
 using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+
+/// The unit direction a frictionless slave's slips miss (their span's
+/// normal): the one direction its coefficients on the facet's nodes act
+/// in. Projecting them on it (ν νᵀ C) keeps the constraint's motions (the
+/// slips take the rest) and couples slaves that are each other's master
+/// nodes by their normal motion only: the tangential parts would let a
+/// cycle of slaves whose facets' nodes are all its own slide together,
+/// and its rows would be singular.
+template <int D, class S>
+Eigen::Matrix<S, D, 1> missed_direction(const Eigen::Matrix<S, D, D - 1>& slip) {
+  Eigen::Matrix<S, D, 1> nu;
+  if constexpr (D == 2)
+    nu << -slip(1, 0), slip(0, 0);
+  else
+    nu = slip.col(0).cross(slip.col(1));
+  return nu / sqrt(nu.squaredNorm());
+}
 
 /// Seeds x as the AD variables of the end positions: entry k of the
 /// flattened matrix has derivative e_k. The same seeding serves for the
@@ -164,10 +276,11 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
     return l;
   }
   const Projection<D> p = project<D>(in.x.col(0), xm);
-  l.trial.master = shape_block<D>(p.xi);
+  l.trial.master = p.normal * (p.normal.transpose() * shape_block<D>(p.xi));
   l.trial.slip = p.tangents;
   const auto t = zero_work::frictionless_test<D, double>(in.x, in.dx, !k.push, k.friction, k.slip_scale);
-  l.test.master = t.master;
+  const Vec<D> nu = missed_direction<D, double>(t.slip);
+  l.test.master = nu * (nu.transpose() * t.master);
   l.test.slip = t.slip;
   l.cosine = t.cosine;
   return l;
@@ -176,12 +289,35 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
 // A slave node holds one constraint, or two frictionless ones: of
 // different pairs whose facets are not parallel, or of one pair on two
 // facets (a crease pair) (the active set's rules, ActiveSet::can_hold,
-// ActiveSet::crease); anything else is refused.
+// ActiveSet::crease); anything else is refused. A second pass's
+// constraint that repeats another (its slave and that one's on each
+// other's nodes, repeats()) is left out of the maps at this iterate: the
+// two say one thing, and the first pass's holds it (the active set
+// releases it once the step is solved, ActiveSet::update).
+template <int D>
+void Elimination<D>::suspend_repeats(const Eigen::VectorXd* u) {
+  suspended_.assign(constraints_->size(), 0);
+  if (!pairs_ || !u) return;
+  const Positions<D> x = positions(*u);
+  std::unordered_multimap<int, std::size_t> by_slave;
+  for (std::size_t c = 0; c < constraints_->size(); ++c) by_slave.emplace((*constraints_)[c].slave, c);
+  for (std::size_t c = 0; c < constraints_->size(); ++c) {
+    const Constraint<D>& k = (*constraints_)[c];
+    if (!(*pairs_)[k.pair].yields()) continue;
+    for (const int m : k.master)
+      for (auto [it, end] = by_slave.equal_range(m); it != end; ++it) {
+        const Constraint<D>& other = (*constraints_)[it->second];
+        if (!suspended_[it->second] && gives_way(k, other, *pairs_) && repeats(k, other, x)) suspended_[c] = 1;
+      }
+  }
+}
+
 template <int D>
 void Elimination<D>::make_groups() {
   groups_.clear();
   slave_of_.assign(num_nodes_, -1);
   for (std::size_t c = 0; c < constraints_->size(); ++c) {
+    if (suspended_[c]) continue;
     const Constraint<D>& k = (*constraints_)[c];
     int& g = slave_of_[k.slave];
     if (g < 0) {
@@ -261,8 +397,44 @@ typename Elimination<D>::Local Elimination<D>::local_pair(const Group& g, const 
   return l;
 }
 
+// A cycle that is singular at this iterate (slaves of both passes on each
+// other's nodes, beyond the pairs repeats() finds) leaves its second
+// pass's constraints out of the maps, as repeats do; one of the first
+// pass alone is refused.
 template <int D>
 void Elimination<D>::build(const Eigen::VectorXd* u) {
+  suspend_repeats(u);
+  for (;;) {
+    try {
+      compose(u);
+      return;
+    } catch (const SingularCycle& cycle) {
+      // The second pass's constraints go; else self-contact's of the
+      // largest slave, one at a time.
+      int chosen = -1;
+      for (const int g : cycle.members)
+        for (int j = 0; j < groups_[g].count; ++j) {
+          const int c = groups_[g].constraint[j];
+          if (!pairs_ || !(*pairs_)[(*constraints_)[c].pair].yields()) continue;
+          if (chosen < 0 || gives_way((*constraints_)[c], (*constraints_)[chosen], *pairs_)) chosen = c;
+        }
+      for (const int g : cycle.members)
+        for (int j = 0; j < groups_[g].count; ++j) {
+          const int c = groups_[g].constraint[j];
+          if (pairs_ && (*pairs_)[(*constraints_)[c].pair].second_pass) suspended_[c] = 1;
+        }
+      if (chosen >= 0) suspended_[chosen] = 1;
+      if (chosen < 0)
+        throw SolverError(fmt::format(
+            "redundant contact constraints through slave node {}: slaves held on each other's nodes repeat one "
+            "constraint",
+            groups_[cycle.members.front()].slave));
+    }
+  }
+}
+
+template <int D>
+void Elimination<D>::compose(const Eigen::VectorXd* u) {
   make_groups();
   std::vector<Local> locals;
   locals.reserve(groups_.size());
@@ -301,7 +473,7 @@ void Elimination<D>::build(const Eigen::VectorXd* u) {
     trial_rows_[g] = trial_builder.rows(static_cast<int>(g));
     test_rows_[g] = test_builder.rows(static_cast<int>(g));
   }
-  order_ = test_builder.order();
+  components_ = test_builder.components();
 }
 
 template <int D>
@@ -382,7 +554,9 @@ void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) 
   const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
   Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();  // outputs: the slips (row D−1 zero), the facet
   for (int j = 0; j < D - 1; ++j) G.row(j) = t.slip.col(j).dot(gs).derivatives().transpose();
-  for (int o = 0; o < D * D; ++o) G.row(D + o) = t.master.col(o).dot(gs).derivatives().transpose();
+  const Eigen::Matrix<AD<N>, D, 1> nu = missed_direction<D, AD<N>>(t.slip);  // as local()
+  const AD<N> along = nu.dot(gs);
+  for (int o = 0; o < D * D; ++o) G.row(D + o) = (nu.dot(t.master.col(o)) * along).derivatives().transpose();
   auto node = [&](int a) { return a == 0 ? k.slave : k.master[a - 1]; };
   for (int a = 0; a <= D; ++a)
     for (int b = 0; b <= D; ++b)
@@ -427,12 +601,7 @@ Eigen::MatrixXd Elimination<D>::force_variation(std::size_t c, const Vec<D>& f) 
   }
   const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx), !k.push, k.friction,
                                                         k.slip_scale);
-  Eigen::Matrix<AD<N>, D, 1> nu;
-  if constexpr (D == 2)
-    nu << -t.slip(1, 0), t.slip(0, 0);
-  else
-    nu = t.slip.col(0).cross(t.slip.col(1));
-  nu /= sqrt(nu.squaredNorm());
+  const Eigen::Matrix<AD<N>, D, 1> nu = missed_direction<D, AD<N>>(t.slip);
   Vec<D> value;
   for (int i = 0; i < D; ++i) value(i) = nu(i).value();
   const Eigen::Matrix<AD<N>, D, 1> force = nu * AD<N>(f.dot(value));
@@ -459,14 +628,27 @@ bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd
   if (!pairs_ || u_.size() != g.size()) return new_pattern;
   // The residual each slave passes on to its masters' rows: its own plus
   // what chained slaves passed on to it (a chain's slave is a master node
-  // of another constraint), accumulated from the outer end of the chains.
+  // of another constraint), accumulated from the outer end of the chains;
+  // a cycle's members pass theirs to each other, (I − C_KK)ᵀ p_K = h_K.
   Eigen::VectorXd passed = g;
-  for (auto c = order_.rbegin(); c != order_.rend(); ++c) {
-    const Coefficients& l = test_[*c];
-    const Vec<D> gs = passed.template segment<D>(slaves_[*c] * D);
-    for (std::size_t a = 0; a < l.nodes.size(); ++a)
-      if (slave_of_[l.nodes[a]] >= 0)
+  for (auto k = components_.rbegin(); k != components_.rend(); ++k) {
+    const std::vector<int>& members = k->members;
+    const auto m = static_cast<int>(members.size());
+    if (k->coupling.size() > 0) {
+      Eigen::VectorXd h(D * m);
+      for (int i = 0; i < m; ++i) h.template segment<D>(i * D) = passed.template segment<D>(slaves_[members[i]] * D);
+      h = k->coupling.transpose().fullPivLu().solve(h);
+      for (int i = 0; i < m; ++i) passed.template segment<D>(slaves_[members[i]] * D) = h.template segment<D>(i * D);
+    }
+    for (const int c : members) {
+      const Coefficients& l = test_[c];
+      const Vec<D> gs = passed.template segment<D>(slaves_[c] * D);
+      for (std::size_t a = 0; a < l.nodes.size(); ++a) {
+        const int d = slave_of_[l.nodes[a]];
+        if (d < 0 || std::find(members.begin(), members.end(), d) != members.end()) continue;
         passed.template segment<D>(l.nodes[a] * D) += l.master.middleCols(a * D, D).transpose() * gs;
+      }
+    }
   }
   for (std::size_t c = 0; c < groups_.size(); ++c)
     add_variation(static_cast<int>(c), passed.template segment<D>(slaves_[c] * D), K_r);
@@ -512,10 +694,14 @@ Match<D> Elimination<D>::settle(const Constraint<D>& k, const Vec<D>& xs, int fa
   // Never onto a facet that faces the way the slave does (find_master).
   const ContactSurface& slave = (*pairs_)[k.pair].slave;
   const Vec<D> facing = node_normal<D>(slave, static_cast<std::size_t>(slave.local_node(k.slave)), x);
+  const Match<D> start = best;
   best = follow<D>(xs, best, master, x, tol, &facing);
+  // Self-contact: never onto a facet at the slave or its neighbours.
+  const std::vector<int> near = (*pairs_)[k.pair].self ? near_nodes(master, k.slave) : std::vector<int>{};
+  if (!near.empty() && has_any(master, best.facet, near)) best = start;
   for (int side = 0; side < D; ++side) {
     const int next = master.facet_neighbours(side, best.facet);
-    if (next < 0) continue;
+    if (next < 0 || (!near.empty() && has_any(master, next, near))) continue;
     const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
     if (p.inside(tol) && p.gap < best.projection.gap - lower && !(p.normal.dot(facing) > 0.0)) best = Match<D>{next, p};
   }
@@ -608,27 +794,117 @@ void Elimination<D>::place_pair(const Group& g, Positions<D>& x, Positions<D>& x
 }
 
 template <int D>
+void Elimination<D>::place(const Group& g, Positions<D>& x, Positions<D>& x_mid) {
+  if (g.count == 2) {
+    place_pair(g, x, x_mid);
+    return;
+  }
+  const int c = g.constraint[0];
+  Constraint<D>& k = (*constraints_)[c];
+  if (k.kind == Kind::stick) {  // (45): the slave at its point of the facet's frame
+    zero_work::Facet<D, double> xm;
+    for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
+    x.col(k.slave) = zero_work::stick_position<D, double>(xm, k.xi, k.gap);
+    x_mid.col(k.slave) = 0.5 * (x.col(k.slave) + X_.col(k.slave) + u_n_.template segment<D>(k.slave * D));
+  } else {
+    place_frictionless(k, x, x_mid, switches_[c]);
+  }
+}
+
+// How group g's placed slave moves with the positions of its facets'
+// nodes to first order: stick, the frame's Jacobian; one frictionless
+// gap, N_b n nᵀ (only the normal follows); two, the pair's trial map.
+template <int D>
+typename Elimination<D>::Coefficients Elimination<D>::placement(const Group& g, const Positions<D>& x) const {
+  Coefficients p;
+  if (g.count == 2) {
+    Eigen::VectorXd u = (x - X_).reshaped();
+    p = local_pair(g, nullptr).trial;
+    const PairKernel in = pair_input(g, u);
+    std::array<Vec<D>, 2> normal, shape;
+    for (int k = 0; k < 2; ++k) {
+      const Projection<D> pr = project<D>(in.x.col(0), in.x.template middleCols<D>(1 + k * D));
+      normal[k] = pr.normal;
+      shape[k] = facet_shape<D>(pr.xi);
+    }
+    Eigen::Matrix<double, D, 2> n;
+    n << normal[0], normal[1];
+    const Eigen::Matrix<double, D, 2> C = n * (n.transpose() * n).inverse();
+    for (int k = 0; k < 2; ++k)
+      for (int b = 0; b < D; ++b) p.master.middleCols((k * D + b) * D, D) = shape[k](b) * C.col(k) * normal[k].transpose();
+    return p;
+  }
+  const Constraint<D>& k = (*constraints_)[g.constraint[0]];
+  p.nodes.assign(k.master.begin(), k.master.end());
+  zero_work::Facet<D, double> xm;
+  for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
+  if (k.kind == Kind::stick) {
+    p.master = zero_work::stick_jacobian<D, double>(xm, k.xi, k.gap);
+    return p;
+  }
+  const Projection<D> pr = project<D>(x.col(k.slave), xm);
+  const Vec<D> N = facet_shape<D>(pr.xi);
+  p.master.resize(D, D * D);
+  for (int b = 0; b < D; ++b) p.master.middleCols(b * D, D) = N(b) * pr.normal * pr.normal.transpose();
+  return p;
+}
+
+// A cycle's slaves each stand where their facets' nodes, among them the
+// other slaves, put them: x_K = P(x_K). Newton on it, with P's Jacobian
+// from placement(): exact in one iteration for flat facets, where the
+// sweeps alone contract only by the slaves' weights outside the cycle.
+template <int D>
+void Elimination<D>::place_cycle(const std::vector<int>& members, Positions<D>& x, Positions<D>& x_mid) {
+  const auto m = static_cast<int>(members.size());
+  std::map<int, int> member;
+  for (int i = 0; i < m; ++i) member[slaves_[members[i]]] = i;
+  Eigen::VectorXd r(D * m);
+  // The trial placements may switch facets back and forth; the solve's
+  // cap on switches (kMaxSwitches) counts the final placement's only.
+  const std::vector<int> switches = switches_;
+  double previous = std::numeric_limits<double>::infinity();
+  for (int iteration = 0; iteration < kCycleIterations; ++iteration) {
+    double scale = 0.0;
+    for (int i = 0; i < m; ++i) {
+      const int s = slaves_[members[i]];
+      const Vec<D> before = x.col(s), before_mid = x_mid.col(s);
+      place(groups_[members[i]], x, x_mid);
+      r.template segment<D>(i * D) = x.col(s) - before;
+      scale = std::max(scale, before.cwiseAbs().maxCoeff());
+      x.col(s) = before;
+      x_mid.col(s) = before_mid;
+    }
+    if (r.cwiseAbs().maxCoeff() <= 4.0 * std::numeric_limits<double>::epsilon() * scale) break;
+    Eigen::MatrixXd J = Eigen::MatrixXd::Identity(D * m, D * m);
+    for (int i = 0; i < m; ++i) {
+      const Coefficients p = placement(groups_[members[i]], x);
+      for (std::size_t a = 0; a < p.nodes.size(); ++a)
+        if (const auto j = member.find(p.nodes[a]); j != member.end())
+          J.block(i * D, j->second * D, D, D) -= p.master.middleCols(a * D, D);
+    }
+    // A near-singular J (the cycle's slaves on each other's nodes) or a
+    // growing residual ends the iteration: the sweeps' placement stands,
+    // and the maps' build leaves the cycle's second pass out (build()).
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(J);
+    lu.setThreshold(kRedundantPivot);
+    const double size = r.norm();
+    if (lu.rank() < D * m || !(size < previous)) break;
+    previous = size;
+    const Eigen::VectorXd step = lu.solve(r);
+    for (int i = 0; i < m; ++i) x.col(slaves_[members[i]]) += step.template segment<D>(i * D);
+  }
+  switches_ = switches;
+  for (const int c : members) place(groups_[c], x, x_mid);
+}
+
+template <int D>
 void Elimination<D>::enforce(Eigen::VectorXd& u) {
   if (!pairs_) throw Error("Elimination::enforce needs the step's geometry (the geometry constructor)");
   Positions<D> x = positions(u), x_mid = 0.5 * (x + positions(u_n_));
-  for (int sweep = 0; sweep < 2; ++sweep) {  // a second sweep settles chains
-    for (const Group& g : groups_) {
-      if (g.count == 2) {
-        place_pair(g, x, x_mid);
-        continue;
-      }
-      const int c = g.constraint[0];
-      Constraint<D>& k = (*constraints_)[c];
-      if (k.kind == Kind::stick) {  // (45): the slave at its point of the facet's frame
-        zero_work::Facet<D, double> xm;
-        for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
-        x.col(k.slave) = zero_work::stick_position<D, double>(xm, k.xi, k.gap);
-        x_mid.col(k.slave) = 0.5 * (x.col(k.slave) + X_.col(k.slave) + u_n_.template segment<D>(k.slave * D));
-      } else {
-        place_frictionless(k, x, x_mid, switches_[c]);
-      }
-    }
-  }
+  for (int sweep = 0; sweep < 2; ++sweep)  // a second sweep settles chains
+    for (const Group& g : groups_) place(g, x, x_mid);
+  for (const EliminationComponent& k : components_)
+    if (k.coupling.size() > 0) place_cycle(k.members, x, x_mid);
   for (const Constraint<D>& k : *constraints_)
     u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
   build(&u);
@@ -637,6 +913,8 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
     Constraint<D>& k = (*constraints_)[g.constraint[0]];
     if (g.count == 1 && k.rate) place_frictionless(k, x, x_mid, switches_[g.constraint[0]]);
   }
+  for (const EliminationComponent& k : components_)
+    if (k.coupling.size() > 0) place_cycle(k.members, x, x_mid);
   for (const Constraint<D>& k : *constraints_)
     u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
   build(&u);

@@ -18,6 +18,7 @@ const std::vector<Entry>& entries() {
       {{"rate_steps", {{"rate_steps", Over::sum, true}}}, [](C c) { return double(c.rate_steps); }},
       {{"pushes", {{"pushes", Over::sum, true}}}, [](C c) { return double(c.pushes); }},
       {{"creases", {{"creases", Over::sum, true}}}, [](C c) { return double(c.creases); }},
+      {{"repeats", {{"repeats", Over::sum, true}}}, [](C c) { return double(c.repeats); }},
       {{"push_work", {{"push_work", Over::sum}}}, [](C c) { return c.push_work; }},
       {{"velocity_update_failures", {{"velocity_update_failures", Over::sum, true}}},
        [](C c) { return double(c.velocity.failure != nullptr); }},

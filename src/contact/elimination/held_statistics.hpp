@@ -28,6 +28,9 @@ struct HeldCounts {
   int pushes_given_up = 0;
   /// Second constraints given to slaves pressed into a crease.
   int creases = 0;
+  /// Constraints not activated, or released, because they repeat another
+  /// (two passes: slaves on each other's nodes, repeats()).
+  int repeats = 0;
   double max_activation_gap = 0.0;  ///< largest held gap γ of a slave activated in the step [m]
   VelocityUpdate velocity;          ///< the persistent-contact velocity update after the step
 };

@@ -1,0 +1,197 @@
+// Two-pass and self-contact (docs/theory.md, "Two passes"): each side's nodes are
+// held out of the other's facets. Slaves of the two passes that are each
+// other's master nodes form cycles, eliminated together; constraints that
+// repeat each other (slaves on each other's nodes) are left out. Checked
+// on equal elastic balls meeting head-on (the meshes' nodes meet
+// exactly: every constraint of the second pass repeats one of the first)
+// and glancing: no node of either side behind the other's facets, E, L
+// and J kept; one pass as the control. Steps retried (Newton not
+// converging at an iterate where two slaves pass each other) are printed.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "contact_checks.hpp"
+
+namespace conserve::time {
+namespace {
+
+using test::ContactRun;
+using time::Diagnostics;
+
+/// Two equal elastic balls (R = 0.05 m, 2D discs or 3D spheres) meeting at
+/// 4 m/s (3 and −1 m/s), their centres `offset` apart across the line of
+/// approach.
+std::string equal_balls(int dim, double offset, int passes, double end, const std::string& method = "elimination") {
+  const bool d3 = dim == 3;
+  const std::string y = std::to_string(offset / 2.0);
+  auto vec = [&](const std::string& a, const std::string& b) {
+    return "[" + a + ", " + b + (d3 ? ", 0.0]" : "]");
+  };
+  std::string body;
+  for (int side = 0; side < 2; ++side) {
+    const std::string sign = side == 0 ? "-" : "";
+    body += R"(
+[[body]]
+name = ")" + std::string(side == 0 ? "a" : "b") + R"("
+translate = )" + vec(sign + "0.0505", (side == 0 ? "" : "-") + y) + R"(
+velocity = )" + vec(side == 0 ? "3.0" : "-1.0", "0.0") + R"(
+[body.material]
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = ")" + (d3 ? "sphere" : "disc") + R"("
+radius = 0.05
+size = )" + (d3 ? "0.02" : "0.01") + "\n";
+  }
+  return "dimension = " + std::to_string(dim) + R"(
+[time]
+step = 5e-4
+end = )" + std::to_string(end) + "\n" + body + R"(
+[[contact]]
+slave = "a"
+master = "b"
+kind = "frictionless"
+passes = )" + std::to_string(passes) + "\nmethod = \"" + method + "\"\n";
+}
+
+template <int D>
+test::Drift collide(int passes, double offset, double end, int& cutbacks) {
+  ContactRun<D> run(equal_balls(D, offset, passes, end));
+  const test::Drift r = test::measure(run);
+  cutbacks = run.cutbacks;
+  std::printf("[ measured ] %dD, offset %.3f m, %d pass(es): %d steps in contact, %d retried; drift E %.2e L %.2e "
+              "J %.2e; deepest node behind: slave side %.2e m, master side %.2e m\n",
+              D, offset, passes, r.contact_steps, cutbacks, r.energy, r.linear, r.angular, r.penetration,
+              r.master_penetration);
+  return r;
+}
+
+template <int D>
+void expect_two_pass_holds(double offset, double end) {
+  int cutbacks = 0;
+  const test::Drift two = collide<D>(2, offset, end, cutbacks);
+  EXPECT_GT(two.contact_steps, 10);
+  EXPECT_LE(two.penetration, 1e-8);
+  EXPECT_LE(two.master_penetration, 1e-8);
+  EXPECT_LE(two.energy, 1e-10);
+  EXPECT_LE(two.linear, 1e-10);
+  EXPECT_LE(two.angular, 1e-10);
+  const test::Drift one = collide<D>(1, offset, end, cutbacks);  // the control
+  EXPECT_GT(one.master_penetration, 1e-5);
+}
+
+TEST(TwoPass, EqualDiscsHeadOnKeepBothSidesOut) { expect_two_pass_holds<2>(0.0, 0.04); }
+TEST(TwoPass, EqualDiscsGlancingKeepBothSidesOut) { expect_two_pass_holds<2>(0.04, 0.04); }
+TEST(TwoPass, EqualSpheresHeadOnKeepBothSidesOut) { expect_two_pass_holds<3>(0.0, 0.03); }
+TEST(TwoPass, EqualSpheresGlancingKeepBothSidesOut) { expect_two_pass_holds<3>(0.02, 0.03); }
+
+// The penalty's two passes: each side's nodes pushed out of the other's
+// facets by their own springs, the energy (with the springs') kept.
+TEST(TwoPass, PenaltyPushesBothSidesOut) {
+  test::Drift pass[2];
+  for (int passes = 1; passes <= 2; ++passes) {
+    ContactRun<2> run(equal_balls(2, 0.04, passes, 0.04, "penalty"));
+    pass[passes - 1] = test::measure(run);
+    std::printf("[ measured ] penalty, %d pass(es): drift E %.2e L %.2e J %.2e; deepest node behind: slave side "
+                "%.2e m, master side %.2e m\n",
+                passes, pass[passes - 1].energy, pass[passes - 1].linear, pass[passes - 1].angular,
+                pass[passes - 1].penetration, pass[passes - 1].master_penetration);
+  }
+  EXPECT_LE(pass[1].energy, 1e-10);
+  EXPECT_LE(pass[1].linear, 1e-10);
+  EXPECT_LE(pass[1].angular, 1e-10);
+  EXPECT_LT(pass[1].master_penetration, 0.7 * pass[0].master_penetration);
+}
+
+// The reduced tangent with slaves of both passes in cycles, at an iterate
+// of a step in contact, by the Taylor test.
+TEST(TwoPass, ReducedTangentWithCyclesMatchesDifferences2d) {
+  ContactRun<2> run(equal_balls(2, 0.04, 2, 0.04));
+  test::run_until_contact(run, 6, 200);
+  for (int n = 0; n < 3; ++n) run.step();
+  int second = 0;
+  for (const auto& c : run.contacts->constraints()) second += run.contacts->pairs()[c.pair].second_pass;
+  ASSERT_GT(second, 0) << "no constraint of the second pass";
+  test::expect_second_order(test::reduced_tangent_order(run), "2D, two passes");
+}
+
+/// A thin ring (R = 0.1 m, wall 10 mm, neo-Hookean) crushed between two
+/// rigid plates closing at 1 m/s each until its inner face meets itself.
+std::string crushed_ring(double end) {
+  std::string plates;
+  for (const char* side : {"top", "bottom"}) {
+    const bool top = std::string(side) == "top";
+    plates += std::string(R"(
+[[body]]
+name = ")") + side + R"("
+rigid = true
+translate = [0.0, )" + (top ? "0.1105" : "-0.1105") + R"(]
+velocity = [0.0, )" + (top ? "-1.0" : "1.0") + R"(]
+[body.mesh]
+generator = "rectangle"
+lx = 0.5
+ly = 0.02
+size = 0.05
+[[contact]]
+slave = "ring:outer"
+master = ")" + side + ":" + (top ? "ymin" : "ymax") + R"("
+kind = "frictionless"
+)";
+  }
+  return R"(dimension = 2
+[time]
+step = 5e-4
+end = )" + std::to_string(end) + R"(
+[[body]]
+name = "ring"
+[body.material]
+model = "neo_hookean"
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "annulus"
+inner_radius = 0.09
+outer_radius = 0.1
+size = 0.005
+[[contact]]
+slave = "ring:inner"
+master = "ring:inner"
+kind = "frictionless"
+)" + plates;
+}
+
+// Self-contact: the ring's inner face held off itself once the plates
+// have flattened it; the energy with the plates' work, and L_x (the
+// plates push along y only), kept.
+TEST(SelfContact, CrushedRingsInnerFaceHoldsItselfOff) {
+  ContactRun<2> run(crushed_ring(0.09));
+  const Diagnostics d0 = run.diagnostics();
+  double e_ref = 0.0, energy = 0.0, linear_x = 0.0, penetration = 0.0, l_ref = 0.0;
+  int self_steps = 0;
+  while (run.state.time < run.scenario.time.end - 1e-9 * run.scenario.time.step) {
+    run.step();
+    const Diagnostics d = run.diagnostics();
+    e_ref = std::max(e_ref, d.kinetic + d.strain);
+    l_ref = std::max(l_ref, d.momentum_magnitude);
+    energy = std::max(energy, std::abs(d.total - d0.total));
+    linear_x = std::max(linear_x, std::abs(d.linear.x() - d0.linear.x()));
+    penetration = std::max({penetration, run.last.contact.slave_penetration, run.last.contact.master_penetration});
+    bool self = false;
+    for (const auto& c : run.contacts->constraints()) self = self || run.contacts->pairs()[c.pair].self;
+    self_steps += self;
+  }
+  std::printf("[ measured ] crushed ring: %d steps with self-contact, %d retried; drift E (with the plates' work) "
+              "%.2e, L_x %.2e; deepest node behind %.2e m\n",
+              self_steps, run.cutbacks, energy / e_ref, linear_x / l_ref, penetration);
+  EXPECT_GT(self_steps, 5);
+  EXPECT_LE(energy / e_ref, 1e-10);
+  EXPECT_LE(linear_x / l_ref, 1e-10);
+  EXPECT_LE(penetration, 1e-8);
+}
+
+}  // namespace
+}  // namespace conserve::time
