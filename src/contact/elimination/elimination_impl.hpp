@@ -816,25 +816,12 @@ void Elimination<D>::place(const Group& g, Positions<D>& x, Positions<D>& x_mid)
 // gap, N_b n nᵀ (only the normal follows); two, the pair's trial map.
 template <int D>
 typename Elimination<D>::Coefficients Elimination<D>::placement(const Group& g, const Positions<D>& x) const {
-  Coefficients p;
-  if (g.count == 2) {
-    Eigen::VectorXd u = (x - X_).reshaped();
-    p = local_pair(g, nullptr).trial;
-    const PairKernel in = pair_input(g, u);
-    std::array<Vec<D>, 2> normal, shape;
-    for (int k = 0; k < 2; ++k) {
-      const Projection<D> pr = project<D>(in.x.col(0), in.x.template middleCols<D>(1 + k * D));
-      normal[k] = pr.normal;
-      shape[k] = facet_shape<D>(pr.xi);
-    }
-    Eigen::Matrix<double, D, 2> n;
-    n << normal[0], normal[1];
-    const Eigen::Matrix<double, D, 2> C = n * (n.transpose() * n).inverse();
-    for (int k = 0; k < 2; ++k)
-      for (int b = 0; b < D; ++b) p.master.middleCols((k * D + b) * D, D) = shape[k](b) * C.col(k) * normal[k].transpose();
-    return p;
+  if (g.count == 2) {  // the pair's trial map at these positions
+    const Eigen::VectorXd u = (x - X_).reshaped();
+    return local_pair(g, &u).trial;
   }
   const Constraint<D>& k = (*constraints_)[g.constraint[0]];
+  Coefficients p;
   p.nodes.assign(k.master.begin(), k.master.end());
   zero_work::Facet<D, double> xm;
   for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
