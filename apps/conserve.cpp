@@ -144,6 +144,8 @@ void print_check(const std::string& file, const CheckSummary& s) {
   fmt::print("{}: valid. {}D, {} bodies, {} nodes, {} cells, {} unknowns ({} prescribed), mass {:.6g} kg, {} steps\n",
              file, s.dimension, s.bodies, s.nodes, s.cells, s.dofs, s.prescribed_dofs, s.total_mass, s.steps);
   for (const std::string& surface : s.surfaces) fmt::print("  {}\n", surface);
+  if (!s.pairs.empty()) fmt::print("contact: {} pair(s)\n", s.pairs.size());
+  for (const std::string& pair : s.pairs) fmt::print("  {}\n", pair);
 }
 
 /// The signal that asked the run to stop (0: none).

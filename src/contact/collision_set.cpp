@@ -83,6 +83,19 @@ std::optional<Match<D>> CollisionSet<D>::match_in(const ContactPair<D>& pair, st
 }
 
 template <int D>
+void CollisionSet<D>::near_slaves(const ContactPair<D>& pair, const Positions<D>& x, std::vector<std::size_t>& out) {
+  out.clear();
+  Eigen::AlignedBox<double, D> box;
+  for (const int n : pair.master.nodes) box.extend(x.col(n));
+  if (box.isEmpty()) return;
+  const double margin = pair.search.search_distance;
+  box.min().array() -= margin;
+  box.max().array() += margin;
+  for (std::size_t i = 0; i < pair.slave.nodes.size(); ++i)
+    if (box.contains(x.col(pair.slave.nodes[i]))) out.push_back(i);
+}
+
+template <int D>
 Penetration CollisionSet<D>::slave_penetration(const Positions<D>& x, const Positions<D>* x_n) {
   Penetration deepest;
   for_each_match(
@@ -97,10 +110,13 @@ Penetration CollisionSet<D>::slave_penetration(const Positions<D>& x, const Posi
 template <int D>
 Penetration CollisionSet<D>::master_penetration(const Positions<D>& x, const Positions<D>& x_n) {
   Penetration deepest;
+  std::vector<std::size_t> near;
   for (ContactPair<D>& r : reversed_) {
+    near_slaves(r, x, near);
+    if (near.empty()) continue;
     r.refit(x);
     const std::vector<Vec<D>> normals = node_normals<D>(r.slave, x);
-    for (std::size_t i = 0; i < r.slave.nodes.size(); ++i)
+    for (const std::size_t i : near)
       if (const auto m = match_in(r, i, x, normals[i], &x_n); m && -m->projection.gap > deepest.depth)
         deepest = {-m->projection.gap, r.slave.nodes[i]};
   }

@@ -50,19 +50,29 @@ class CollisionSet {
   /// Calls visit(p, i, slave node, match) for every slave that is not
   /// prescribed and has a master facet at positions x (match(), with x_n if
   /// given), pair by pair, each pair refitted to x first.
+  /// Pairs whose surfaces' boxes (the master's enlarged by the search
+  /// distance) hold no slave node are skipped before their search is
+  /// refitted: with many bodies ([general_contact]) most pairs are apart.
   template <class Visit>
   void for_each_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n = nullptr) {
+    std::vector<std::size_t> near;
     for (int p = 0; p < size(); ++p) {
-      refit(p, x);
       const ContactPair<D>& pr = pair(p);
+      near_slaves(pr, x, near);
+      if (near.empty()) continue;
+      refit(p, x);
       const std::vector<Vec<D>> normals = node_normals<D>(pr.slave, x);
-      for (std::size_t i = 0; i < pr.slave.nodes.size(); ++i) {
+      for (const std::size_t i : near) {
         const int s = pr.slave.nodes[i];
         if (prescribed_[static_cast<std::size_t>(s)]) continue;
         if (const auto m = match_in(pr, i, x, normals[i], x_n)) visit(p, i, s, *m);
       }
     }
   }
+
+  /// The slave nodes (local) of `pair` within the box of its master
+  /// surface's nodes at x enlarged by the search distance.
+  static void near_slaves(const ContactPair<D>& pair, const Positions<D>& x, std::vector<std::size_t>& out);
 
   /// The deepest slave node behind a master facet at positions x, by
   /// match()'s rules (with x_n, also a facet beyond the border entered

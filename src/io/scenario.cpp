@@ -255,6 +255,9 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   scenario.gravity_curve = detail::curve_name(top.table("loads"), "gravity_curve", scenario.curves);
   scenario.loads = detail::parse_loads(top, scenario.bodies, scenario.curves);
   scenario.contacts = detail::parse_contacts(top, scenario.bodies);
+  if (auto general = detail::parse_general_contact(top, scenario.bodies, !scenario.contacts.empty());
+      !general.empty())
+    scenario.contacts = std::move(general);
   scenario.active_set = detail::parse_active_set(top.table("active_set"));
   return scenario;
 }

@@ -33,6 +33,22 @@ SurfaceName parse_surface(const Section& s, std::string_view key, const std::vec
   return surface;
 }
 
+ContactKind kind_of(const std::string& kind) {
+  return kind == "stick" ? ContactKind::stick : kind == "coulomb" ? ContactKind::coulomb : ContactKind::frictionless;
+}
+
+/// The friction of a table with keys `kind` and `friction`: required with
+/// kind = "coulomb", refused otherwise.
+double friction_of(const Section& s) {
+  const std::string kind = s.string("kind");
+  if (kind == "coulomb" && !s.has("friction"))
+    s.fail("kind", "is \"coulomb\" without a friction coefficient", "friction = μ (≥ 0) with kind = \"coulomb\"");
+  if (kind != "coulomb" && s.has("friction"))
+    s.fail("friction", fmt::format("is read with kind = \"coulomb\" only (kind is \"{}\")", kind),
+           "no friction key, or kind = \"coulomb\"");
+  return s.number("friction");
+}
+
 ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies) {
   const SurfaceName slave = parse_surface(s, "slave", bodies);
   if (find_body(bodies, slave.body)->rigid) {
@@ -46,16 +62,8 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   contact.slave_group = slave.group;
   contact.master_body = master.body;
   contact.master_group = master.group;
-  const std::string kind = s.string("kind");
-  contact.kind = kind == "stick"     ? ContactKind::stick
-                 : kind == "coulomb" ? ContactKind::coulomb
-                                     : ContactKind::frictionless;
-  if (contact.kind == ContactKind::coulomb && !s.has("friction"))
-    s.fail("kind", "is \"coulomb\" without a friction coefficient", "friction = μ (≥ 0) with kind = \"coulomb\"");
-  if (contact.kind != ContactKind::coulomb && s.has("friction"))
-    s.fail("friction", fmt::format("is read with kind = \"coulomb\" only (kind is \"{}\")", kind),
-           "no friction key, or kind = \"coulomb\"");
-  contact.friction = s.number("friction");
+  contact.kind = kind_of(s.string("kind"));
+  contact.friction = friction_of(s);
   contact.depth_factor = s.number("depth_factor");
   contact.passes = s.integer("passes");
   if (contact.passes > 2)
@@ -125,6 +133,78 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
     contacts.push_back(std::move(c));
   }
   return contacts;
+}
+
+// Every two bodies not excluded, and each deformable one with itself:
+// deformable pairs in two passes (the earlier body's nodes as the first
+// pass's slaves), a deformable body's nodes against a rigid one's facets,
+// rigid pairs none; whole boundaries.
+std::vector<ContactSpec> parse_general_contact(const Section& top, const std::vector<BodySpec>& bodies,
+                                               bool with_pairs) {
+  if (!top.has("general_contact")) return {};
+  const Section g = top.table("general_contact");
+  if (with_pairs)
+    g.fail_table("is given with [[contact]] tables",
+                 "one of the two: [general_contact] pairs every body, [[general_contact.pair]] sets one pair");
+  const std::vector<std::string> exclude = g.names("exclude");
+  for (const std::string& name : exclude)
+    if (!find_body(bodies, name))
+      g.fail("exclude", fmt::format("unknown body '{}'", name), "bodies, out of: " + body_names(bodies));
+  auto excluded = [&](const std::string& name) {
+    return std::find(exclude.begin(), exclude.end(), name) != exclude.end();
+  };
+  struct Override {
+    std::vector<std::string> bodies;
+    ContactKind kind;
+    double friction;
+  };
+  std::vector<Override> overrides;
+  for (const Section& pair : g.table_array("pair")) {
+    std::vector<std::string> names = pair.names("bodies");
+    if (names.empty() || names.size() > 2)
+      pair.fail("bodies", fmt::format("names {} bodies", names.size()), "one body (its self-contact) or two");
+    for (const std::string& name : names) {
+      if (!find_body(bodies, name))
+        pair.fail("bodies", fmt::format("unknown body '{}'", name), "bodies, out of: " + body_names(bodies));
+      if (excluded(name))
+        pair.fail("bodies", fmt::format("'{}' is excluded", name), "bodies that [general_contact] pairs");
+    }
+    if (names.size() == 1) names.push_back(names.front());
+    std::sort(names.begin(), names.end());
+    overrides.push_back({names, kind_of(pair.string("kind")), friction_of(pair)});
+  }
+  ContactSpec base;
+  base.kind = kind_of(g.string("kind"));
+  base.friction = friction_of(g);
+  base.method = g.string("method");
+  std::vector<ContactSpec> out;
+  auto add = [&](const BodySpec& slave, const BodySpec& master, int passes) {
+    ContactSpec c = base;
+    c.slave_body = slave.name;
+    c.master_body = master.name;
+    c.passes = passes;
+    std::vector<std::string> key{slave.name, master.name};
+    std::sort(key.begin(), key.end());
+    for (const Override& o : overrides)
+      if (o.bodies == key) c.kind = o.kind, c.friction = o.friction;
+    out.push_back(std::move(c));
+  };
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (excluded(bodies[i].name)) continue;
+    for (std::size_t j = i + 1; j < bodies.size(); ++j) {
+      if (excluded(bodies[j].name) || (bodies[i].rigid && bodies[j].rigid)) continue;
+      if (bodies[i].rigid)
+        add(bodies[j], bodies[i], 1);
+      else if (bodies[j].rigid)
+        add(bodies[i], bodies[j], 1);
+      else
+        add(bodies[i], bodies[j], 2);
+    }
+  }
+  if (g.boolean("self"))
+    for (const BodySpec& b : bodies)
+      if (!b.rigid && !excluded(b.name)) add(b, b, 1);
+  return out;
 }
 
 ActiveSetSpec parse_active_set(const Section& active_set) {

@@ -41,6 +41,7 @@ std::string_view type_name(KeyType type) {
     case KeyType::points:
       return "array of [t, value] pairs";
     case KeyType::components:
+    case KeyType::names:
       return "array of strings";
     case KeyType::table:
       return "table";

@@ -41,6 +41,9 @@ SectionSpec top_level() {
                .doc = "load curves, one [[curve]] table each, named by rigid bodies, [[boundary]], [[load]] and "
                       "[loads]"},
               {.name = "active_set", .type = KeyType::table, .doc = "contact active-set control, see [active_set]"},
+              {.name = "general_contact",
+               .type = KeyType::table,
+               .doc = "contact between every pair of bodies and of each body with itself, see [general_contact]"},
           }};
 }
 
@@ -535,6 +538,63 @@ SectionSpec contact_section() {
           }};
 }
 
+SectionSpec general_contact_section() {
+  return {.name = "general_contact",
+          .doc = "Contact between all bodies: its presence pairs every two bodies (both deformable: two passes; "
+                 "one rigid: the deformable one's nodes against the rigid one's facets; two rigid: none) and each "
+                 "deformable body with itself (self-contact), their whole boundaries, instead of [[contact]] "
+                 "tables (the two are not combined).",
+          .keys = {
+              {.name = "kind",
+               .type = KeyType::choice,
+               .default_value = "frictionless",
+               .choices = {"frictionless", "stick", "coulomb"},
+               .doc = "the kind of every pair, as [[contact]] `kind`"},
+              {.name = "friction",
+               .type = KeyType::number,
+               .default_value = "0",
+               .min = at_least(0),
+               .doc = "kind = \"coulomb\": the Coulomb friction coefficient μ"},
+              {.name = "method",
+               .type = KeyType::choice,
+               .default_value = "elimination",
+               .choices = {"elimination", "penalty"},
+               .doc = "constraint method, as [[contact]] `method`"},
+              {.name = "exclude",
+               .type = KeyType::names,
+               .doc = "bodies left out of contact"},
+              {.name = "self",
+               .type = KeyType::boolean,
+               .default_value = "true",
+               .doc = "self-contact of each deformable body"},
+              {.name = "pair",
+               .type = KeyType::table_array,
+               .doc = "settings of one pair of bodies, one [[general_contact.pair]] table each"},
+          }};
+}
+
+SectionSpec general_contact_pair_section() {
+  return {.name = "general_contact.pair",
+          .doc = "The kind (and friction) of one pair of bodies under [general_contact], or of a body with "
+                 "itself.",
+          .keys = {
+              {.name = "bodies",
+               .type = KeyType::names,
+               .required = true,
+               .doc = "the two bodies (or one, for its self-contact)"},
+              {.name = "kind",
+               .type = KeyType::choice,
+               .required = true,
+               .choices = {"frictionless", "stick", "coulomb"},
+               .doc = "the pair's kind"},
+              {.name = "friction",
+               .type = KeyType::number,
+               .default_value = "0",
+               .min = at_least(0),
+               .doc = "kind = \"coulomb\": μ"},
+          }};
+}
+
 SectionSpec active_set_section() {
   return {.name = "active_set",
           .doc = "Control of the contact active set.",
@@ -596,7 +656,7 @@ const std::vector<SectionSpec>& scenario_sections() {
   static const std::vector<SectionSpec> sections = {
       top_level(),        time_section(), newton_section(),   solver_section(),  loads_section(),   output_section(),     body_section(),
       material_section(), mesh_section(), rotate_section(), boundary_section(), contact_section(), active_set_section(),
-      load_section(),     curve_section(),
+      general_contact_section(), general_contact_pair_section(), load_section(),     curve_section(),
   };
   return sections;
 }

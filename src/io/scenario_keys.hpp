@@ -22,6 +22,7 @@ enum class KeyType {
   matrix,            ///< `dimension` rows, each an array of `dimension` numbers
   points,            ///< an array of [t, value] pairs, t strictly increasing
   components,        ///< a non-empty array of distinct "x", "y" (, "z" in 3D)
+  names,             ///< an array of distinct strings
   table,             ///< a sub-table (its own SectionSpec)
   table_array,       ///< an array of tables, [[name]] (its own SectionSpec)
 };

@@ -44,6 +44,10 @@ std::string curve_name(const Section& s, std::string_view key, const std::vector
 
 /// All [[contact]] tables of the top level (scenario_contact.cpp).
 std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<BodySpec>& bodies);
+/// [general_contact]: the pairs it makes (none without the table);
+/// refused together with [[contact]] tables (`with_pairs`).
+std::vector<ContactSpec> parse_general_contact(const Section& top, const std::vector<BodySpec>& bodies,
+                                               bool with_pairs);
 
 /// The [active_set] table (defaults if absent).
 ActiveSetSpec parse_active_set(const Section& active_set);

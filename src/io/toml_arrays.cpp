@@ -120,6 +120,25 @@ std::vector<int> Section::components(std::string_view key) const {
   return result;
 }
 
+std::vector<std::string> Section::names(std::string_view key) const {
+  const auto* node = find(key);
+  std::vector<std::string> result;
+  if (!node) return result;
+  const auto expected = describe(spec_of(key), ctx_->dimension);
+  const auto* array = node->as_array();
+  if (!array) fail(key, fmt::format("got {}", type_of(*node)), expected);
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const auto& element = *array->get(i);
+    const auto element_path = fmt::format("{}[{}]", path(key), i);
+    const auto* name = element.as_string();
+    if (!name) detail::fail(*ctx_, element, element_path, fmt::format("got {}", type_of(element)), expected);
+    if (std::find(result.begin(), result.end(), name->get()) != result.end())
+      detail::fail(*ctx_, element, element_path, fmt::format("'{}' is repeated", name->get()), expected);
+    result.push_back(name->get());
+  }
+  return result;
+}
+
 int Section::component_index(const toml::node& node, const std::string& path, std::string_view expected) const {
   const auto* name = node.as_string();
   if (!name) detail::fail(*ctx_, node, path, fmt::format("got {}", type_of(node)), expected);

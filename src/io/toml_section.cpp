@@ -105,6 +105,8 @@ std::string describe(const KeySpec& key, int dimension) {
     case KeyType::components:
       return dimension == 3 ? "a non-empty array of distinct strings out of x, y, z"
                             : "a non-empty array of distinct strings out of x, y";
+    case KeyType::names:
+      return "an array of distinct strings";
     case KeyType::table:
       return fmt::format("a table [{}]", key.name);
     case KeyType::table_array:

@@ -79,6 +79,8 @@ class Section {
   [[nodiscard]] std::vector<std::pair<double, double>> points(std::string_view key) const;
   /// Sorted component indices; all of the dimension if absent.
   [[nodiscard]] std::vector<int> components(std::string_view key) const;
+  /// The distinct strings of a names key, in order; empty if absent.
+  [[nodiscard]] std::vector<std::string> names(std::string_view key) const;
   /// The sub-table `key`; an empty one if absent, so that the declared
   /// defaults of its keys apply.
   [[nodiscard]] Section table(std::string_view key) const;

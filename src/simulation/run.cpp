@@ -204,10 +204,17 @@ CheckSummary check_dim(const io::Scenario& sc) {
                  step_count(sc.time),
                  0.0,
                  {},
+                 {},
                  {}};
   for (int c = 0; c < p.model.num_cells(); ++c)
     s.total_mass += p.model.bodies[p.model.cell_body[c]].density * p.model.geometry[c].volume;
   s.warnings = plausibility_warnings<D>(sc, p.model, pairs);
+  for (const contact::ContactPair<D>& pair : pairs) {
+    if (pair.second_pass) continue;
+    s.pairs.push_back(fmt::format("{} on {} ({} slave nodes, {} master facets){}", pair.slave.name, pair.master.name,
+                                  pair.slave.nodes.size(), pair.master.num_facets(),
+                                  pair.self ? ", self-contact" : pair.passes > 1 ? ", two passes" : ""));
+  }
   for (std::size_t b = 0; b < sc.bodies.size(); ++b) {
     const model::Body& body = p.model.bodies[b];
     if (body.num_cells > 0 || !sc.bodies[b].mesh.generator.empty()) continue;

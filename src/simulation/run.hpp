@@ -52,6 +52,9 @@ struct CheckSummary {
   /// Per rigid bare surface read from a file: "body 'NAME': " and which
   /// way its normals point (mesh::describe_surface).
   std::vector<std::string> surfaces;
+  /// Per contact pair (the search's, [general_contact]'s included): "SLAVE
+  /// on MASTER", its facets and how it is held (two passes, self-contact).
+  std::vector<std::string> pairs;
 };
 
 /// Validates the scenario fully (meshes made or read, groups resolved).

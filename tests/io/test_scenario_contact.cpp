@@ -323,3 +323,72 @@ TEST(ScenarioContact, MethodKeys) {
 
 }  // namespace
 }  // namespace conserve::io
+
+namespace conserve::io {
+namespace {
+
+/// two_bodies() with a second deformable body "c" and then `rest`; the
+/// [general_contact] table below starts on line 30.
+std::string three_bodies(std::string_view rest) {
+  return two_bodies(
+      "[[body]]\n"  // 21
+      "name = \"c\"\n"
+      "[body.material]\n"
+      "young = 1e6\n"
+      "poisson = 0.3\n"
+      "density = 1000\n"
+      "[body.mesh]\n"
+      "file = \"meshes/cube.msh\"\n" +  // 28
+      std::string(rest));
+}
+
+// [general_contact]: deformable pairs in two passes, a deformable body's
+// nodes against a rigid one's facets, each deformable body with itself,
+// whole boundaries; exclusions and one pair's own kind.
+TEST(ScenarioGeneralContact, PairsEveryBodyAndEachWithItself) {
+  const auto s = parse_scenario(three_bodies("[general_contact]\n"), case_file());
+  ASSERT_EQ(s.contacts.size(), 5u);  // a–plane, a–c, c–plane, a self, c self
+  auto find = [&](const std::string& slave, const std::string& master) -> const ContactSpec* {
+    for (const ContactSpec& c : s.contacts)
+      if (c.slave_body == slave && c.master_body == master) return &c;
+    return nullptr;
+  };
+  ASSERT_NE(find("a", "plane"), nullptr);
+  EXPECT_EQ(find("a", "plane")->passes, 1);
+  ASSERT_NE(find("a", "c"), nullptr);
+  EXPECT_EQ(find("a", "c")->passes, 2);
+  EXPECT_NE(find("c", "plane"), nullptr);
+  EXPECT_NE(find("a", "a"), nullptr);
+  EXPECT_NE(find("c", "c"), nullptr);
+  for (const ContactSpec& c : s.contacts) {
+    EXPECT_EQ(c.slave_group, "boundary");
+    EXPECT_EQ(c.kind, ContactKind::frictionless);
+  }
+  const auto some = parse_scenario(
+      three_bodies("[general_contact]\nexclude = [\"plane\"]\nself = false\n[[general_contact.pair]]\n"
+                   "bodies = [\"c\", \"a\"]\nkind = \"coulomb\"\nfriction = 0.4\n"),
+      case_file());
+  ASSERT_EQ(some.contacts.size(), 1u);
+  EXPECT_EQ(some.contacts[0].kind, ContactKind::coulomb);
+  EXPECT_EQ(some.contacts[0].friction, 0.4);
+}
+
+TEST(ScenarioGeneralContact, BadInputIsOneLine) {
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\nexclude = [\"d\"]\n"), 30, "general_contact.exclude",
+                         "unknown body 'd'"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\nexclude = [\"c\", \"c\"]\n"), 30,
+                         "general_contact.exclude[1]", "'c' is repeated"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\nexclude = [\"c\"]\n[[general_contact.pair]]\n"
+                                      "bodies = [\"c\"]\nkind = \"stick\"\n"),
+                         32, "general_contact.pair[0].bodies", "'c' is excluded"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\n[[general_contact.pair]]\nbodies = [\"a\", \"c\", "
+                                      "\"plane\"]\nkind = \"stick\"\n"),
+                         31, "general_contact.pair[0].bodies", "names 3 bodies"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\nkind = \"coulomb\"\n"), 30, "general_contact.kind",
+                         "without a friction coefficient"));
+  const std::string both = "[[contact]]\nslave = \"a\"\nmaster = \"plane\"\nkind = \"stick\"\n[general_contact]\n";
+  EXPECT_TRUE(fails_with(three_bodies(both), 33, "general_contact", "is given with [[contact]] tables"));
+}
+
+}  // namespace
+}  // namespace conserve::io

@@ -375,10 +375,12 @@ ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u, const Eigen::Vect
   if (active_.empty()) return {nan, nan};
   const Positions<D> x = positions(u);
   const Positions<D> x_n = u_n ? positions(*u_n) : Positions<D>();
-  std::vector<std::vector<Vec<D>>> normals;
-  for (int p = 0; p < collisions_.size(); ++p) {
-    collisions_.refit(p, x);
-    normals.push_back(node_normals<D>(pair(p).slave, x));
+  // Only the pairs of active constraints are searched.
+  std::vector<std::vector<Vec<D>>> normals(static_cast<std::size_t>(collisions_.size()));
+  for (const Constraint<D>& c : active_) {
+    if (!normals[c.pair].empty()) continue;
+    collisions_.refit(c.pair, x);
+    normals[c.pair] = node_normals<D>(pair(c.pair).slave, x);
   }
   ActiveGaps gaps{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (const Constraint<D>& c : active_) {
