@@ -6,7 +6,6 @@
 #include <map>
 #include <unordered_map>
 
-
 namespace conserve::contact {
 
 template <int D>
@@ -304,8 +303,9 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
       }
     return false;
   };
-  // Slaves that came onto each other's nodes while held: the second pass's
-  // constraint goes (the step is solved again without it).
+  // Slaves that came onto each other's nodes while held: the constraint
+  // that gives way (gives_way: the second pass's, or self-contact's of the
+  // larger slave) goes, and the step is solved again without it.
   for (std::size_t k = 0; k < active_.size(); ++k) by_slave.emplace(active_[k].slave, std::make_pair(false, k));
   for (std::size_t k = 0; k < active_.size(); ++k) {
     if (!pair(active_[k].pair).yields() || !repeated(active_[k], true)) continue;
