@@ -13,6 +13,7 @@
 #include <string>
 
 #include "contact_checks.hpp"
+#include "support/files.hpp"
 
 namespace conserve::time {
 namespace {
@@ -118,57 +119,14 @@ TEST(TwoPass, ReducedTangentWithCyclesMatchesDifferences2d) {
   test::expect_second_order(test::reduced_tangent_order(run), "2D, two passes");
 }
 
-/// A thin ring (R = 0.1 m, wall 10 mm, neo-Hookean) crushed between two
-/// rigid plates closing at 1 m/s each until its inner face meets itself.
-std::string crushed_ring(double end) {
-  std::string plates;
-  for (const char* side : {"top", "bottom"}) {
-    const bool top = std::string(side) == "top";
-    plates += std::string(R"(
-[[body]]
-name = ")") + side + R"("
-rigid = true
-translate = [0.0, )" + (top ? "0.1105" : "-0.1105") + R"(]
-velocity = [0.0, )" + (top ? "-1.0" : "1.0") + R"(]
-[body.mesh]
-generator = "rectangle"
-lx = 0.5
-ly = 0.02
-size = 0.05
-[[contact]]
-slave = "ring:outer"
-master = ")" + side + ":" + (top ? "ymin" : "ymax") + R"("
-kind = "frictionless"
-)";
-  }
-  return R"(dimension = 2
-[time]
-step = 5e-4
-end = )" + std::to_string(end) + R"(
-[[body]]
-name = "ring"
-[body.material]
-model = "neo_hookean"
-young = 1.0e6
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "annulus"
-inner_radius = 0.09
-outer_radius = 0.1
-size = 0.005
-[[contact]]
-slave = "ring:inner"
-master = "ring:inner"
-kind = "frictionless"
-)" + plates;
-}
-
 // Self-contact: the ring's inner face held off itself once the plates
 // have flattened it; the energy with the plates' work, and L_x (the
 // plates push along y only), kept.
 TEST(SelfContact, CrushedRingsInnerFaceHoldsItselfOff) {
-  ContactRun<2> run(crushed_ring(0.09));
+  // examples/crush/ring_fold.toml: a thin ring (R = 0.1 m, wall 10 mm)
+  // crushed between plates closing at 1 m/s each, its inner face paired
+  // with itself.
+  ContactRun<2> run(test::slurp(std::string(CONSERVE_SOURCE_DIR) + "/examples/crush/ring_fold.toml"));
   const Diagnostics d0 = run.diagnostics();
   double e_ref = 0.0, energy = 0.0, linear_x = 0.0, penetration = 0.0, l_ref = 0.0;
   int self_steps = 0;

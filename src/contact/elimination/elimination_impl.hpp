@@ -298,6 +298,9 @@ template <int D>
 void Elimination<D>::suspend_repeats(const Eigen::VectorXd* u) {
   suspended_.assign(constraints_->size(), 0);
   if (!pairs_ || !u) return;
+  if (std::none_of(constraints_->begin(), constraints_->end(),
+                   [&](const Constraint<D>& k) { return (*pairs_)[k.pair].yields(); }))
+    return;  // one pass: nothing may give way
   const Positions<D> x = positions(*u);
   std::unordered_multimap<int, std::size_t> by_slave;
   for (std::size_t c = 0; c < constraints_->size(); ++c) by_slave.emplace((*constraints_)[c].slave, c);
