@@ -1,6 +1,6 @@
 // conserve: energy–momentum conserving finite-element dynamics.
 //   conserve run SCENARIO [-o DIR] [--quiet] [--steps N] [--restart CHECKPOINT] [--set SECTION.KEY=VALUE ...]
-//   conserve check SCENARIO [--set SECTION.KEY=VALUE ...]
+//   conserve check SCENARIO [--pairs] [--set SECTION.KEY=VALUE ...]
 // Every failure is one line on stderr and a non-zero exit code:
 // 1 bad input, 2 bad command line, 3 solver failure, 4 anything else;
 // 5: stopped by SIGTERM or SIGUSR1 after the step under way, with a
@@ -49,17 +49,21 @@ void print_drifts(const RunSummary& s) {
     else
       same->first += ", " + name;
   }
-  fmt::print("drift (largest deviation over the run's scale: E_ref = {:.3e} J, L_ref = {:.3e} kg m/s, J_ref = {:.3e} "
-             "kg m²/s): {}",
-             s.reference[0], s.reference[1], s.reference[4], drifts.empty() ? "none" : fmt::format("{}", fmt::join(drifts, ", ")));
+  fmt::print(
+      "drift (largest deviation over the run's scale: E_ref = {:.3e} J, L_ref = {:.3e} kg m/s, J_ref = {:.3e} "
+      "kg m²/s): {}",
+      s.reference[0], s.reference[1], s.reference[4],
+      drifts.empty() ? "none" : fmt::format("{}", fmt::join(drifts, ", ")));
   if (!others.empty()) {
     std::vector<std::string> parts;
     for (auto [names, why] : others) {
       // All of L's (J's) components alike: "L".
       for (const char* whole : {"L", "J"}) {
-        const std::string all = s.conservation.present[3] ? fmt::format("{0}_x, {0}_y, {0}_z", whole)
-                                                          : std::string(whole) == "L" ? "L_x, L_y" : "J_z";
-        if (const auto at = names.find(all); at != std::string::npos && all.size() > 3) names.replace(at, all.size(), whole);
+        const std::string all = s.conservation.present[3]   ? fmt::format("{0}_x, {0}_y, {0}_z", whole)
+                                : std::string(whole) == "L" ? "L_x, L_y"
+                                                            : "J_z";
+        if (const auto at = names.find(all); at != std::string::npos && all.size() > 3)
+          names.replace(at, all.size(), whole);
       }
       parts.push_back(fmt::format("{} ({})", names, why));
     }
@@ -82,8 +86,7 @@ void print_summary(const RunSummary& s) {
       s.fewest_threads == s.most_threads ? fmt::format("{}", s.most_threads)
                                          : fmt::format("{} to {}", s.fewest_threads, s.most_threads),
       s.most_threads == 1 ? "" : "s", s.thread_policy, s.contact_method.empty() ? "elimination" : s.contact_method,
-      t.elimination,
-      t.linear_setup, t.linear_setups, t.linear_solve, t.linear_solves,
+      t.elimination, t.linear_setup, t.linear_setups, t.linear_solve, t.linear_solves,
       t.linear_solves ? static_cast<double>(t.linear_iterations) / static_cast<double>(t.linear_solves) : 0.0,
       s.linear_solver, t.contact_search, s.output_seconds);
   if (t.linear_fallbacks > 0)
@@ -106,6 +109,31 @@ void print_summary(const RunSummary& s) {
         s.statistic("activations"), s.statistic("releases"), held, s.statistic("min_active_gap"),
         s.statistic("max_active_gap"), s.statistic("max_penetration"), s.statistic("slave_penetration"),
         s.statistic("master_penetration"));
+  }
+  if (!s.active_pairs.empty()) {
+    std::string names;
+    for (std::size_t k = 0; k < s.active_pairs.size() && k < 6; ++k)
+      names += fmt::format("{}{} on {} ({} step{})", k ? ", " : "", s.active_pairs[k].slave, s.active_pairs[k].master,
+                           s.active_pairs[k].steps, s.active_pairs[k].steps == 1 ? "" : "s");
+    fmt::print("contact: {} of the {} pairs searched (each pass counted) held contact: {}{}\n", s.active_pairs.size(),
+               s.contact_pairs, names,
+               s.active_pairs.size() > 6 ? ", … (summary.json's contact_pairs lists them)" : "");
+  }
+  if (!s.body_penetration.empty()) {
+    auto deepest = s.body_penetration;
+    auto depth = [](const auto& b) { return std::max(b.nodes_behind, b.behind_its_facets); };
+    std::stable_sort(deepest.begin(), deepest.end(), [&](const auto& a, const auto& b) { return depth(a) > depth(b); });
+    std::string rows;
+    for (std::size_t k = 0; k < deepest.size() && k < 6 && depth(deepest[k]) > 0; ++k)
+      rows += fmt::format("{}{} {:.3e} / {:.3e} m", k ? ", " : "", deepest[k].body, deepest[k].nodes_behind,
+                          deepest[k].behind_its_facets);
+    if (rows.empty())
+      fmt::print("penetration at the end: none, either way, on any of the {} bodies in contact pairs\n",
+                 deepest.size());
+    else
+      fmt::print(
+          "penetration at the end, deepest first (a body's nodes behind facets / nodes behind its facets): {}{}\n",
+          rows, deepest.size() > 6 ? " (summary.json's penetration_at_end has every body)" : "");
   }
   if (s.statistic("dissipated") > 0)
     fmt::print("friction: {:.6g} J dissipated (history.csv's dissipated; total + dissipated is what is conserved)\n",
@@ -140,12 +168,17 @@ void print_summary(const RunSummary& s) {
   fmt::print("\n");
 }
 
-void print_check(const std::string& file, const CheckSummary& s) {
+void print_check(const std::string& file, const CheckSummary& s, bool all_pairs) {
   fmt::print("{}: valid. {}D, {} bodies, {} nodes, {} cells, {} unknowns ({} prescribed), mass {:.6g} kg, {} steps\n",
              file, s.dimension, s.bodies, s.nodes, s.cells, s.dofs, s.prescribed_dofs, s.total_mass, s.steps);
   for (const std::string& surface : s.surfaces) fmt::print("  {}\n", surface);
-  if (!s.pairs.empty()) fmt::print("contact: {} pair(s)\n", s.pairs.size());
-  for (const std::string& pair : s.pairs) fmt::print("  {}\n", pair);
+  if (s.pairs.empty()) return;
+  constexpr std::size_t kListed = 12;  // a [general_contact] of many bodies: the kinds, and the first pairs
+  fmt::print("contact: {} pair(s): {} self-contact, {} in two passes, {} in one\n", s.pairs.size(), s.self_pairs,
+             s.two_pass_pairs, s.pairs.size() - static_cast<std::size_t>(s.self_pairs + s.two_pass_pairs));
+  const std::size_t listed = all_pairs ? s.pairs.size() : std::min(s.pairs.size(), kListed);
+  for (std::size_t k = 0; k < listed; ++k) fmt::print("  {}\n", s.pairs[k]);
+  if (listed < s.pairs.size()) fmt::print("  … {} more (--pairs lists them all)\n", s.pairs.size() - listed);
 }
 
 /// The signal that asked the run to stop (0: none).
@@ -213,6 +246,8 @@ int main(int argc, char** argv) {
   CLI::App* check = app.add_subcommand("check", "validate a scenario (meshes included) without running it");
   check->add_option("scenario", scenario_file, "scenario file (TOML)")->required();
   check->add_option("--set", overrides, set_help)->allow_extra_args(false);
+  bool all_pairs = false;
+  check->add_flag("--pairs", all_pairs, "list every contact pair (else the first 12)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -225,7 +260,7 @@ int main(int argc, char** argv) {
     if (*check) {
       const conserve::simulation::CheckSummary s = conserve::simulation::check(scenario);
       for (const std::string& w : s.warnings) warn(w);
-      print_check(scenario_file, s);
+      print_check(scenario_file, s, all_pairs);
       return 0;
     }
     conserve::solver::set_blas_threads(blas_threads);

@@ -1,6 +1,10 @@
 #include "contact/collision_set.hpp"
 
 #include <algorithm>
+#include <array>
+#include <map>
+#include <numeric>
+#include <string>
 
 namespace conserve::contact {
 namespace {
@@ -26,6 +30,7 @@ ContactPair<D> reversed(const ContactPair<D>& pair, const Positions<D>& x) {
   r.slave = pair.master;
   r.master = pair.slave;
   r.kind = pair.kind;
+  r.self = pair.self;
   r.search = pair.search;
   const std::vector<double> edges = facet_sizes<D>(r.master, x);
   const double longest = edges.empty() ? 0.0 : *std::max_element(edges.begin(), edges.end());
@@ -67,6 +72,60 @@ CollisionSet<D>::CollisionSet(const model::Model<D>& model, std::vector<ContactP
     facet_size_.push_back(longest_edges<D>(pair.slave, x));
     reversed_.push_back(reversed<D>(pair, x));
   }
+  std::map<std::string, int> id;
+  auto surface = [&](const ContactSurface& s) {
+    const auto [it, fresh] = id.emplace(s.name, static_cast<int>(surface_nodes_.size()));
+    if (fresh) {
+      surface_nodes_.push_back(s.nodes);
+      surface_margin_.push_back(0.0);
+    }
+    return it->second;
+  };
+  std::vector<std::array<int, 2>> ids;
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    const int slave = surface(pairs_[p].slave), master = surface(pairs_[p].master);
+    double& m = surface_margin_[static_cast<std::size_t>(master)];
+    m = std::max(m, pairs_[p].search.search_distance);
+    double& r = surface_margin_[static_cast<std::size_t>(slave)];
+    r = std::max(r, reversed_[p].search.search_distance);
+    ids.push_back({slave, master});
+  }
+  for (std::size_t p = 0; p < pairs_.size(); ++p)
+    between_[static_cast<std::size_t>(ids[p][0]) * surface_nodes_.size() + static_cast<std::size_t>(ids[p][1])]
+        .push_back(static_cast<int>(p));
+}
+
+template <int D>
+void CollisionSet<D>::candidates(const Positions<D>& x, std::vector<int>& out) const {
+  out.clear();
+  const std::size_t n = surface_nodes_.size();
+  std::vector<Eigen::AlignedBox<double, D>> box(n);
+  Eigen::AlignedBox<double, D> centres;
+  for (std::size_t s = 0; s < n; ++s) {
+    for (const int node : surface_nodes_[s]) box[s].extend(x.col(node));
+    box[s].min().array() -= surface_margin_[s];
+    box[s].max().array() += surface_margin_[s];
+    centres.extend(box[s].center());
+  }
+  int axis = 0;
+  (centres.max() - centres.min()).maxCoeff(&axis);
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return box[a].min()(axis) < box[b].min()(axis); });
+  auto add = [&](int slave, int master) {
+    const auto it = between_.find(static_cast<std::size_t>(slave) * n + static_cast<std::size_t>(master));
+    if (it != between_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+  };
+  std::vector<int> open;  // surfaces whose extent along the axis reaches the sweep's position
+  for (const int s : order) {
+    const double at = box[static_cast<std::size_t>(s)].min()(axis);
+    std::erase_if(open, [&](int o) { return box[static_cast<std::size_t>(o)].max()(axis) < at; });
+    for (const int o : open)
+      if (box[static_cast<std::size_t>(o)].intersects(box[static_cast<std::size_t>(s)])) add(o, s), add(s, o);
+    add(s, s);
+    open.push_back(s);
+  }
+  std::sort(out.begin(), out.end());
 }
 
 template <int D>
@@ -77,6 +136,15 @@ std::optional<Match<D>> CollisionSet<D>::match_in(const ContactPair<D>& pair, st
   const auto match = find_master<D>(x.col(s), pair.master, pair.tree, x, pair.search, slave_normal, &pair.frames,
                                     pair.self ? &near : nullptr);
   if (!match) return std::nullopt;
+  if (pair.self) {
+    // Every node of a body lies behind its own far facets by the body's
+    // thickness (a thin plate's bottom behind its top): against its own
+    // surface a node counts only if it came to the facet from in front,
+    // in front of it at the step's start. Without a start, no match.
+    if (!x_n) return std::nullopt;
+    const Projection<D> start = project<D>(x_n->col(s), facet_nodes<D>(pair.master, match->facet, *x_n));
+    if (!(start.gap >= -pair.search.penetration_tolerance)) return std::nullopt;
+  }
   if (over_surface<D>(x.col(s), *match, pair.master, x, pair.search.border_tolerance)) return match;
   if (x_n && entered_through<D>(pair, s, *match, *x_n, x)) return match;
   return std::nullopt;
@@ -108,19 +176,52 @@ Penetration CollisionSet<D>::slave_penetration(const Positions<D>& x, const Posi
 }
 
 template <int D>
-Penetration CollisionSet<D>::master_penetration(const Positions<D>& x, const Positions<D>& x_n) {
-  Penetration deepest;
+template <class Visit>
+void CollisionSet<D>::for_each_reversed_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n) {
   std::vector<std::size_t> near;
-  for (ContactPair<D>& r : reversed_) {
+  candidates(x, candidates_);
+  for (const int p : candidates_) {
+    ContactPair<D>& r = reversed_[static_cast<std::size_t>(p)];
     near_slaves(r, x, near);
     if (near.empty()) continue;
     r.refit(x);
     const std::vector<Vec<D>> normals = node_normals<D>(r.slave, x);
     for (const std::size_t i : near)
-      if (const auto m = match_in(r, i, x, normals[i], &x_n); m && -m->projection.gap > deepest.depth)
-        deepest = {-m->projection.gap, r.slave.nodes[i]};
+      if (const auto m = match_in(r, i, x, normals[i], x_n)) visit(p, r.slave.nodes[i], *m);
   }
+}
+
+template <int D>
+Penetration CollisionSet<D>::master_penetration(const Positions<D>& x, const Positions<D>& x_n) {
+  Penetration deepest;
+  for_each_reversed_match(
+      x,
+      [&](int, int node, const Match<D>& m) {
+        if (-m.projection.gap > deepest.depth) deepest = {-m.projection.gap, node};
+      },
+      &x_n);
   return deepest;
+}
+
+template <int D>
+std::vector<typename CollisionSet<D>::PairPenetration> CollisionSet<D>::pair_penetrations(const Positions<D>& x,
+                                                                                          const Positions<D>* x_n) {
+  std::vector<PairPenetration> depth(pairs_.size());
+  for_each_match(
+      x,
+      [&](int p, std::size_t, int s, const Match<D>& m) {
+        Penetration& d = depth[static_cast<std::size_t>(p)].slave;
+        if (-m.projection.gap > d.depth) d = {-m.projection.gap, s};
+      },
+      x_n);
+  for_each_reversed_match(
+      x,
+      [&](int p, int node, const Match<D>& m) {
+        Penetration& d = depth[static_cast<std::size_t>(p)].master;
+        if (-m.projection.gap > d.depth) d = {-m.projection.gap, node};
+      },
+      x_n);
+  return depth;
 }
 
 template <int D>

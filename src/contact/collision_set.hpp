@@ -8,6 +8,7 @@
 /// trees and frames but no contact state: which constraints are active is
 /// the constraint method's (contact/elimination/active_set.hpp for elimination).
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "contact/constraint.hpp"
@@ -56,7 +57,8 @@ class CollisionSet {
   template <class Visit>
   void for_each_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n = nullptr) {
     std::vector<std::size_t> near;
-    for (int p = 0; p < size(); ++p) {
+    candidates(x, candidates_);
+    for (const int p : candidates_) {
       const ContactPair<D>& pr = pair(p);
       near_slaves(pr, x, near);
       if (near.empty()) continue;
@@ -69,6 +71,14 @@ class CollisionSet {
       }
     }
   }
+
+  /// The scene's broad phase: the pairs (ascending) whose two surfaces'
+  /// boxes at x, each enlarged by the largest search distance it is
+  /// searched with, overlap (sweep and prune along the axis the boxes'
+  /// centres spread most on), and every self-contact pair. Its cost grows
+  /// with the surfaces' nodes and the overlapping pairs, not with the
+  /// pairs listed: a pair that is apart is never looked at.
+  void candidates(const Positions<D>& x, std::vector<int>& out) const;
 
   /// The slave nodes (local) of `pair` within the box of its master
   /// surface's nodes at x enlarged by the search distance.
@@ -84,11 +94,25 @@ class CollisionSet {
   /// than its slave may sink its nodes into the slave's facets.
   [[nodiscard]] Penetration master_penetration(const Positions<D>& x, const Positions<D>& x_n);
 
+  /// Both of the above per pair at positions x (the step from x_n if
+  /// given): pair p's deepest slave behind a master facet and deepest
+  /// master node behind a slave facet (the run summary's per-body figures).
+  struct PairPenetration {
+    Penetration slave;
+    Penetration master;
+  };
+  [[nodiscard]] std::vector<PairPenetration> pair_penetrations(const Positions<D>& x,
+                                                               const Positions<D>* x_n = nullptr);
+
   /// The longest edge of the slave facets at slave node `slave` of pair
   /// `p` in the reference configuration [m].
   [[nodiscard]] double facet_size(int p, int slave) const;
 
  private:
+  /// for_each_match for the pairs the other way round (reversed_): visit(p,
+  /// master node, match on a slave facet of pair p), prescribed nodes too.
+  template <class Visit>
+  void for_each_reversed_match(const Positions<D>& x, Visit&& visit, const Positions<D>* x_n);
   [[nodiscard]] static std::optional<Match<D>> match_in(const ContactPair<D>& pair, std::size_t i,
                                                         const Positions<D>& x, const Vec<D>& slave_normal,
                                                         const Positions<D>* x_n);
@@ -100,6 +124,13 @@ class CollisionSet {
   /// in the reference configuration [m].
   std::vector<std::vector<double>> facet_size_;
   std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
+  /// The broad phase's surfaces (each once, by name): their nodes, the
+  /// largest search distance each is a master with (either way round), and
+  /// per pair of surfaces (slave · count + master) the pairs between them.
+  std::vector<std::vector<int>> surface_nodes_;
+  std::vector<double> surface_margin_;
+  std::unordered_map<std::size_t, std::vector<int>> between_;
+  std::vector<int> candidates_;  ///< for_each_match's scratch
 };
 
 }  // namespace conserve::contact

@@ -98,14 +98,21 @@ std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& sur
     if (exclude && has_any(surface, f, *exclude)) continue;
     const FacetNodes<D> nodes = facet_nodes<D>(surface, f, x);
     const Projection<D> p = frames ? project<D>(x_s, frames->get(f, nodes)) : project<D>(x_s, nodes);
-    if (slave_normal && p.normal.dot(*slave_normal) > 0.0) continue;  // both face the same way
+    if (slave_normal && faces_same_way(p.normal, *slave_normal)) continue;
     const double size = longest_edge<D>(nodes);
     if (p.gap < -settings.depth_factor * size) continue;  // far side
     if (p.inside(settings.inside_tolerance))
       inside.offer(f, p);
-    else if (!inside.match)  // once a facet is inside, the nearest-facet rule no longer matters
+    else
       nearest.offer(f, p, x_s, nodes, size);
   }
+  // The nearest point of the surface: a facet it projects inside unless one
+  // it projects outside of is nearer. A point behind a convex edge of a thin
+  // body projects outside both facets at the edge and inside the face beyond
+  // (a cylinder's top, half its height away): the edge's facets are its own.
+  if (inside.match && nearest.match &&
+      nearest.distance < std::abs(inside.match->projection.gap) - 1e-12 * nearest.size)
+    return nearest.match;
   return inside.match ? inside.match : nearest.match;
 }
 
@@ -122,7 +129,7 @@ Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface
     if (next < 0 || std::find(visited.begin(), visited.end(), next) != visited.end()) return here;
     visited.push_back(next);
     walk = Match<D>{next, project<D>(x_s, facet_nodes<D>(surface, next, x))};
-    if (slave_normal && walk.projection.normal.dot(*slave_normal) > 0.0) return here;  // both face the same way
+    if (slave_normal && faces_same_way(walk.projection.normal, *slave_normal)) return here;
   }
   return walk.projection.inside(inside_tolerance) ? walk : here;
 }

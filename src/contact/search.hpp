@@ -35,17 +35,29 @@ struct Match {
   Projection<D> projection;  ///< on that facet's plane, ξ not clamped
 };
 
+/// Whether a master facet with outward normal n faces the way a slave node
+/// with outward normal m does (the slave is on the facet's back side): the
+/// two within 60° (n·m > ½). A node normal is an average of its facets'
+/// and on a coarse curved slave leans tens of degrees off the surface's, so
+/// a facet square to it (a wall beside a ball standing on a floor) is not
+/// counted as facing its way.
+template <int D>
+bool faces_same_way(const Vec<D>& n, const Vec<D>& m) {
+  return n.dot(m) > 0.5;
+}
+
 /// Facet node positions of `surface.facets.col(f)` from all positions x.
 template <int D>
 FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<D>& x);
 
 /// The master facet of x_s: among the tree's candidates, discard far-side
-/// facets (see SearchSettings) and those whose normal points the same way
-/// as the slave's outward normal `slave_normal` (if given); prefer facets
-/// whose projection lies inside (smallest |gap|); otherwise (edges, vertices,
-/// convex corners) the facet whose closed triangle/segment is nearest, ties
-/// going to the one whose normal is best aligned with x_s − its nearest
-/// point. std::nullopt if no facet qualifies.
+/// facets (see SearchSettings) and those that face the way the slave's
+/// outward normal `slave_normal` does (if given, faces_same_way); of the
+/// rest, the facet whose closed triangle/segment is nearest: one x_s
+/// projects inside (smallest |gap|) unless one it projects outside of is
+/// nearer (behind a convex edge), ties among those going to the one whose
+/// normal is best aligned with x_s − its nearest point. std::nullopt if no
+/// facet qualifies.
 /// `exclude` (sorted node numbers, self-contact): facets with one of these
 /// nodes are skipped.
 template <int D>
@@ -78,8 +90,8 @@ bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& su
 /// coordinate (1 − Σξ, ξ[, η]). The walk crosses exit edges tentatively and
 /// never revisits a facet: it ends on the first facet where the projection is
 /// inside, or, if it meets the border or a revisit first, on `current`. Given
-/// the slave's outward normal `slave_normal`, a facet whose normal points the
-/// same way is a border too, as find_master discards it: a slave on the rim
+/// the slave's outward normal `slave_normal`, a facet that faces its way
+/// (faces_same_way) is a border too, as find_master discards it: a slave on the rim
 /// of one body pressed against the side of another does not walk round the
 /// other's convex edge onto its top face, which faces the way it does.
 template <int D>

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 
 #include "core/error.hpp"
@@ -13,12 +14,12 @@
 #include "io/history_writer.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "simulation/checkpoint.hpp"
+#include "simulation/contact_setup.hpp"
+#include "simulation/drift.hpp"
 #include "simulation/output.hpp"
 #include "simulation/output_folder.hpp"
 #include "simulation/plausibility.hpp"
 #include "simulation/progress.hpp"
-#include "simulation/contact_setup.hpp"
-#include "simulation/drift.hpp"
 #include "simulation/setup.hpp"
 #include "simulation/stepper.hpp"
 #include "time/diagnostics.hpp"
@@ -49,6 +50,33 @@ StepFigures figures_of(const StepRecord& record, const time::Diagnostics& d, con
   return {record, d, count, force};
 }
 
+/// Per body with a contact surface, its penetration both ways at
+/// displacement u, the step from u_n (RunSummary::body_penetration), from
+/// each pair's.
+template <int D>
+std::vector<RunSummary::BodyPenetration> body_penetration(contact::Method<D>& contact, const model::Model<D>& model,
+                                                          const Eigen::VectorXd& u_n, const Eigen::VectorXd& u) {
+  const contact::Positions<D> x_n = model.X + u_n.reshaped(D, model.num_nodes());
+  const contact::Positions<D> x = model.X + u.reshaped(D, model.num_nodes());
+  const auto depths = contact.collisions().pair_penetrations(x, &x_n);
+  std::map<int, RunSummary::BodyPenetration> by_body;
+  for (std::size_t p = 0; p < depths.size(); ++p) {
+    const contact::ContactPair<D>& pair = contact.pairs()[p];
+    RunSummary::BodyPenetration& slave = by_body[pair.slave.body];
+    RunSummary::BodyPenetration& master = by_body[pair.master.body];
+    slave.nodes_behind = std::max(slave.nodes_behind, depths[p].slave.depth);
+    master.behind_its_facets = std::max(master.behind_its_facets, depths[p].slave.depth);
+    master.nodes_behind = std::max(master.nodes_behind, depths[p].master.depth);
+    slave.behind_its_facets = std::max(slave.behind_its_facets, depths[p].master.depth);
+  }
+  std::vector<RunSummary::BodyPenetration> out;
+  for (auto& [b, pen] : by_body) {
+    pen.body = model.bodies[static_cast<std::size_t>(b)].name;
+    out.push_back(pen);
+  }
+  return out;
+}
+
 template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const auto started = std::chrono::system_clock::now();
@@ -67,8 +95,9 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(problem.model.size(), d0, conservation(sc));
-  RunTotals totals{.drift = {}, .statistics = RunStatistics(contact ? contact->statistics()
-                                                                      : std::vector<contact::MethodStatistic>())};
+  RunTotals totals{
+      .drift = {},
+      .statistics = RunStatistics(contact ? contact->statistics() : std::vector<contact::MethodStatistic>())};
   if (options.restart) {
     Checkpoint<D> c = read_checkpoint<D>(*options.restart, fingerprint, problem.model, totals.statistics);
     state = std::move(c.state);
@@ -97,8 +126,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   }
   auto save = [&](const model::State& s) {
     const auto file = checkpoint_path(dir, s.step);
-    write_checkpoint<D>(file, {fingerprint, s, control, totals, contact ? contact->save() : std::string(),
-                               integrator.save()});
+    write_checkpoint<D>(
+        file, {fingerprint, s, control, totals, contact ? contact->save() : std::string(), integrator.save()});
     return file;
   };
   ProgressLine progress(options.progress, sc.output.progress_every);
@@ -106,9 +135,13 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.min_dt = control.dt;
   const std::int64_t first_cutbacks = control.cutbacks;
   std::int64_t taken = 0;
+  std::vector<std::int64_t> pair_steps(contact ? contact->pairs().size() : 0);  // steps each pair held contact in
+  std::vector<int> held_in_step(pair_steps.size(), -1);
+  Eigen::VectorXd u_last_start = state.u;  // the last step's start (self-contact's search needs it)
   for (; taken < max_steps && !finished(sc.time, state); ++taken) {
     double dt = 0.0;
     int failures = 0;
+    u_last_start = state.u;
     StepRecord record;
     try {
       record = stepper.advance(state, dt, failures);
@@ -124,8 +157,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     }
     summary.min_dt = std::min(summary.min_dt, dt);
     if (failures > 0) {  // why, for the user and in the output folder
-      const std::string line = fmt::format("step {}: {} failed attempt(s), the last: {}\n", state.step, failures,
-                                           stepper.last_failure());
+      const std::string line =
+          fmt::format("step {}: {} failed attempt(s), the last: {}\n", state.step, failures, stepper.last_failure());
       cutback_log << line << std::flush;
       if (options.progress) fmt::print(options.progress, "\ncutback at {}", line);
     }
@@ -134,6 +167,12 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     d.total += d.contact;
     const Drifts drifts = drift.add(d, totals.drift);
     const StepFigures figures = figures_of<D>(record, d, contact);
+    if (contact)
+      for (const auto& f : contact->contact_forces())
+        if (auto& held = held_in_step[static_cast<std::size_t>(f.pair)]; held != static_cast<int>(taken)) {
+          held = static_cast<int>(taken);
+          ++pair_steps[static_cast<std::size_t>(f.pair)];
+        }
     const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
     {
       solver::ScopedTimer timer(summary.output_seconds);
@@ -186,6 +225,13 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   if (contact) {
     summary.contact_method = std::string(contact->name());
     summary.contact_settings = contact->settings();
+    summary.contact_pairs = static_cast<int>(pair_steps.size());
+    for (std::size_t p = 0; p < pair_steps.size(); ++p)
+      if (pair_steps[p] > 0) {
+        const contact::ContactPair<D>& pair = contact->pairs()[p];
+        summary.active_pairs.push_back({pair.slave.name, pair.master.name, pair.self, pair.second_pass, pair_steps[p]});
+      }
+    summary.body_penetration = body_penetration<D>(*contact, problem.model, u_last_start, state.u);
   }
   io::write_atomically(dir / "summary.json", summary_json(summary, problem.model.num_dofs(), origin));
   return summary;
@@ -205,15 +251,21 @@ CheckSummary check_dim(const io::Scenario& sc) {
                  0.0,
                  {},
                  {},
-                 {}};
+                 {},
+                 0,
+                 0};
   for (int c = 0; c < p.model.num_cells(); ++c)
     s.total_mass += p.model.bodies[p.model.cell_body[c]].density * p.model.geometry[c].volume;
   s.warnings = plausibility_warnings<D>(sc, p.model, pairs);
   for (const contact::ContactPair<D>& pair : pairs) {
     if (pair.second_pass) continue;
+    s.self_pairs += pair.self ? 1 : 0;
+    s.two_pass_pairs += pair.passes > 1 ? 1 : 0;
     s.pairs.push_back(fmt::format("{} on {} ({} slave nodes, {} master facets){}", pair.slave.name, pair.master.name,
                                   pair.slave.nodes.size(), pair.master.num_facets(),
-                                  pair.self ? ", self-contact" : pair.passes > 1 ? ", two passes" : ""));
+                                  pair.self         ? ", self-contact"
+                                  : pair.passes > 1 ? ", two passes"
+                                                    : ""));
   }
   for (std::size_t b = 0; b < sc.bodies.size(); ++b) {
     const model::Body& body = p.model.bodies[b];

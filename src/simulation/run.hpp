@@ -55,6 +55,7 @@ struct CheckSummary {
   /// Per contact pair (the search's, [general_contact]'s included): "SLAVE
   /// on MASTER", its facets and how it is held (two passes, self-contact).
   std::vector<std::string> pairs;
+  int self_pairs = 0, two_pass_pairs = 0;  ///< of `pairs`: self-contact, and contacts searched both ways
 };
 
 /// Validates the scenario fully (meshes made or read, groups resolved).

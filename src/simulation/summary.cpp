@@ -50,10 +50,7 @@ Json figures(const RunSummary& s, int unknowns) {
               {"linear_fallbacks", t.linear_fallbacks},
               {"lu_first", t.lu_first},
               {"symbolic_analyses", t.analyses},
-              {"threads",
-               {{"policy", s.thread_policy},
-                {"fewest", s.fewest_threads},
-                {"most", s.most_threads}}},
+              {"threads", {{"policy", s.thread_policy}, {"fewest", s.fewest_threads}, {"most", s.most_threads}}},
               {"cutbacks", s.cutbacks},
               {"vtu_frames", s.vtu_frames},
               {"vtu_bytes", s.vtu_bytes},
@@ -65,7 +62,8 @@ Json figures(const RunSummary& s, int unknowns) {
                 {"momentum", s.reference[1]},
                 {"angular_momentum", s.reference[4]},
                 {"definition",
-                 "drift = the largest |X - X0| over the run / X_ref; E = total + released + dissipated; E_ref = the largest K + W "
+                 "drift = the largest |X - X0| over the run / X_ref; E = total + released + dissipated; E_ref = the "
+                 "largest K + W "
                  "[J], L_ref = the largest sum over nodes of |(M V)_A| [kg m/s], J_ref = L_ref times the model's "
                  "bounding-box diagonal [kg m^2/s]"}}}};
 }
@@ -128,6 +126,20 @@ std::string summary_json(const RunSummary& s, int unknowns, const RunOrigin& ori
       j[key] = static_cast<std::int64_t>(value);
     else
       j[key] = value;
+  }
+  if (s.contact_pairs > 0) {
+    Json active = Json::array(), bodies = Json::array();
+    for (const auto& p : s.active_pairs)
+      active.push_back({{"slave", p.slave},
+                        {"master", p.master},
+                        {"self", p.self},
+                        {"second_pass", p.second_pass},
+                        {"steps", p.steps}});
+    for (const auto& b : s.body_penetration)
+      bodies.push_back(
+          {{"body", b.body}, {"nodes_behind", b.nodes_behind}, {"behind_its_facets", b.behind_its_facets}});
+    j["contact_pairs"] = {{"count", s.contact_pairs}, {"active", std::move(active)}};
+    j["penetration_at_end"] = std::move(bodies);
   }
   // NaN and ±inf are written as null; bytes that are not UTF-8 (a path)
   // as U+FFFD rather than an exception.

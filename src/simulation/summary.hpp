@@ -36,26 +36,45 @@ struct RunSummary {
   }
   std::filesystem::path output_directory;
   int earlier_files_removed = 0;  ///< files of an earlier run removed from it (simulation/output_folder.hpp)
-  solver::Timings timings;      ///< where the wall time went
-  std::string linear_solver;    ///< the back end's name, e.g. "GMRES + ILU(0)"
+  solver::Timings timings;        ///< where the wall time went
+  std::string linear_solver;      ///< the back end's name, e.g. "GMRES + ILU(0)"
   /// The contact method's name ("" without contact) and its settings as
   /// the run used them (contact::Method::settings).
   std::string contact_method;
   std::vector<std::pair<std::string, double>> contact_settings;
-  double output_seconds = 0.0;  ///< writing history and VTU files
-  std::int64_t vtu_frames = 0;  ///< VTU files written by this invocation
+  double output_seconds = 0.0;   ///< writing history and VTU files
+  std::int64_t vtu_frames = 0;   ///< VTU files written by this invocation
   std::uintmax_t vtu_bytes = 0;  ///< their size [bytes]
-  std::int64_t cutbacks = 0;    ///< failed step attempts retried with Δt halved
+  std::int64_t cutbacks = 0;     ///< failed step attempts retried with Δt halved
   /// The assembly's threads: why (assembly::ThreadGovernor::policy), and
   /// the fewest and most used.
   std::string thread_policy;
   int fewest_threads = 1, most_threads = 1;
-  double min_dt = 0.0;          ///< smallest step size used [s]
+  double min_dt = 0.0;  ///< smallest step size used [s]
   /// Why the run stopped before its end (RunOptions::stop: "SIGTERM"),
   /// empty if it did not, and the checkpoint it wrote then.
   std::string stopped;
   std::filesystem::path stop_checkpoint;
   double end_time = 0.0;  ///< the time the run reached [s]
+  /// Contact pairs (the search's, each pass and [general_contact]'s
+  /// included): how many, and those that held contact in a step of this
+  /// invocation, with those steps.
+  struct ActivePair {
+    std::string slave, master;  ///< surfaces, "body:group"
+    bool self = false, second_pass = false;
+    std::int64_t steps = 0;
+  };
+  int contact_pairs = 0;
+  std::vector<ActivePair> active_pairs;
+  /// Per body with a contact surface, at the run's end, both ways: the
+  /// deepest of its nodes behind a facet it is searched against (its own
+  /// too, with self-contact) and the deepest node behind its facets [m].
+  struct BodyPenetration {
+    std::string body;
+    double nodes_behind = 0.0;
+    double behind_its_facets = 0.0;
+  };
+  std::vector<BodyPenetration> body_penetration;
 };
 
 /// An input file of a run and its SHA-256.

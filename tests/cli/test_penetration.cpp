@@ -56,8 +56,8 @@ lx = 0.4
 ly = 0.4
 size = 0.1
 [[contact]]
-slave = ")" + slave + "\"\nmaster = \"" +
-         master + "\"\nkind = \"frictionless\"\n";
+slave = ")" +
+         slave + "\"\nmaster = \"" + master + "\"\nkind = \"frictionless\"\n";
 }
 
 struct Report {
@@ -90,9 +90,10 @@ TEST(Penetration, MasterNodesInsideACoarseSlaveAreReported) {
   ASSERT_EQ(coarse.cli.exit_code, 0) << coarse.cli.err;
   const Report fine = run_case("penetration_fine_slave", "disc:circle", "block:xmin");
   ASSERT_EQ(fine.cli.exit_code, 0) << fine.cli.err;
-  std::printf("[ measured ] disc into block: coarse slave, master nodes %.3e m inside (slaves %.1e m); fine slave, "
-              "%.1e m (slaves %.1e m)\n",
-              coarse.master, coarse.slave, fine.master, fine.slave);
+  std::printf(
+      "[ measured ] disc into block: coarse slave, master nodes %.3e m inside (slaves %.1e m); fine slave, "
+      "%.1e m (slaves %.1e m)\n",
+      coarse.master, coarse.slave, fine.master, fine.slave);
   EXPECT_GT(coarse.master, 1e-3);  // 1.4 mm, 1.4 % of the disc's radius
   EXPECT_EQ(coarse.deepest, coarse.master);
   EXPECT_EQ(coarse.history_master, coarse.master);
@@ -105,6 +106,46 @@ TEST(Penetration, MasterNodesInsideACoarseSlaveAreReported) {
   EXPECT_LT(fine.master, 1e-12);
   EXPECT_LT(fine.deepest, 1e-12);
   EXPECT_EQ(fine.cli.err, "");  // no warning
+}
+
+// The summary says which pairs held contact, and each body's penetration
+// at the end both ways: what one body's nodes have behind the other's
+// facets is what the other has behind its own.
+TEST(Penetration, TheSummaryNamesThePairsInContactAndEachBodysPenetrationBothWays) {
+  const auto dir = scratch("penetration_per_body");
+  write_file(dir / "s.toml", disc_into_block("block:xmin", "disc:circle"));
+  const CliResult check = run_cli("check s.toml", dir);
+  ASSERT_EQ(check.exit_code, 0) << check.err;
+  EXPECT_THAT(check.out, HasSubstr("contact: 1 pair(s): 0 self-contact, 0 in two passes, 1 in one\n  block:xmin on "
+                                   "disc:circle"));
+  const CliResult cli = run_cli("run s.toml -q -o out --set time.end=0.035", dir);  // while pressed
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const auto j = nlohmann::json::parse(slurp(dir / "out/summary.json"));
+  const auto& pairs = j.at("contact_pairs");
+  EXPECT_EQ(pairs.at("count"), 1);
+  ASSERT_EQ(pairs.at("active").size(), 1u);
+  EXPECT_EQ(pairs.at("active")[0].at("slave"), "block:xmin");
+  EXPECT_EQ(pairs.at("active")[0].at("master"), "disc:circle");
+  const int steps = pairs.at("active")[0].at("steps").get<int>();
+  EXPECT_GT(steps, 5);
+  const auto& bodies = j.at("penetration_at_end");
+  ASSERT_EQ(bodies.size(), 2u);
+  EXPECT_EQ(bodies[0].at("body"), "disc");
+  EXPECT_EQ(bodies[1].at("body"), "block");
+  const double disc_in = bodies[0].at("nodes_behind").get<double>(),
+               block_in = bodies[1].at("nodes_behind").get<double>();
+  std::printf(
+      "[ measured ] coarse slave at the end: disc nodes %.3e m behind block facets, block nodes %.3e m behind "
+      "disc facets; %d steps in contact\n",
+      disc_in, block_in, steps);
+  EXPECT_GT(disc_in, 1e-4);    // the coarse slave's facets sag between its nodes into the disc
+  EXPECT_LT(block_in, 1e-12);  // its nodes are held
+  EXPECT_EQ(bodies[0].at("behind_its_facets").get<double>(), block_in);
+  EXPECT_EQ(bodies[1].at("behind_its_facets").get<double>(), disc_in);
+  EXPECT_THAT(cli.out, HasSubstr(fmt::format("contact: 1 of the 1 pairs searched (each pass counted) held contact: "
+                                             "block:xmin on disc:circle ({} steps)",
+                                             steps)));
+  EXPECT_THAT(cli.out, HasSubstr(fmt::format("disc {:.3e} / {:.3e} m", disc_in, block_in)));
 }
 
 }  // namespace

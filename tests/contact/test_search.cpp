@@ -148,6 +148,34 @@ TEST(Search, SlaveNormalFilterRejectsFacetsFacingTheSameWay) {
   }
 }
 
+// A ball standing on a floor beside a wall (scripts/make_pour.py): its
+// node level with the wall's bottom edge, in front of the wall's face,
+// has a normal that leans a little towards the face's own. The face is
+// still its facet, not the wall's bottom, behind whose plane the node is.
+TEST(Search, AFacetSquareToTheSlaveNormalIsKept) {
+  const Scene<3> wall(test::box_mesh(2, 2, 2, 1.0, 1.0, 1.0), "boundary");
+  const Vec<3> x_s(1.15, 0.5, 0.11);
+  const auto m = wall.find(x_s, settings_with(0.3), Vec<3>(0.05, 1.0, 0.0).normalized());
+  ASSERT_TRUE(m);
+  EXPECT_LT((wall.normal(m->facet) - Vec<3>(1, 0, 0)).norm(), 1e-14);
+  EXPECT_NEAR(m->projection.gap, 0.15, 1e-14);
+  EXPECT_TRUE(m->projection.inside());
+}
+
+// A point just behind the side of a thin slab, level with its bottom
+// edge, with a rim node's normal (a cylinder's rim pressed into another
+// cylinder's side): it projects just outside the side's facets and inside
+// the top, a slab's thickness away; its facet is the side, the nearer.
+TEST(Search, BehindTheSideOfAThinSlabAtItsEdgeIsOnTheSide) {
+  const Scene<3> slab(test::box_mesh(2, 2, 1, 1.0, 1.0, 0.1), "boundary");
+  const Vec<3> x_s(0.99, 0.5, -1e-6);
+  const auto m = slab.find(x_s, settings_with(0.3), Vec<3>(-0.7, 0.0, -0.7).normalized());
+  ASSERT_TRUE(m);
+  EXPECT_LT((slab.normal(m->facet) - Vec<3>(1, 0, 0)).norm(), 1e-14);
+  EXPECT_NEAR(m->projection.gap, -0.01, 1e-12);
+  EXPECT_FALSE(m->projection.inside());
+}
+
 /// Point beyond a convex feature: matched to a facet touching it, at the
 /// nearest distance, with the best aligned normal, projection outside.
 void expect_corner(const Scene<3>& scene, const Vec<3>& x_s, double distance, const Vec<3>& normal, double gap) {

@@ -22,10 +22,10 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
 }
 
 template <int D>
-std::optional<Constraint<D>> ActiveSet<D>::activation(int p, std::size_t i, int s, const Match<D>& match,
-                                                      const Positions<D>& x_n, const Positions<D>& x_np1) const {
+std::optional<Constraint<D>> ActiveSet<D>::activation(int p, int s, const Match<D>& match, const Positions<D>& x_n,
+                                                      const Positions<D>& x_np1) const {
   if (!(match.projection.gap < -pair(p).search.penetration_tolerance)) return std::nullopt;
-  if (index_.active_in(p, i)) {
+  if (index_.active_in(p, s)) {
     if (index_.count(s) != 1 || index_.first_pair(s) != p) return std::nullopt;
     const auto held =
         std::find_if(active_.begin(), active_.end(), [s](const Constraint<D>& c) { return c.slave == s; });
@@ -232,8 +232,8 @@ double ActiveSet<D>::split_fraction(const Eigen::VectorXd& u_n, const Eigen::Vec
   double fraction = 1.0;
   collisions_.for_each_match(
       x,
-      [&](int p, std::size_t i, int s, const Match<D>& match) {
-        if (const auto c = activation(p, i, s, match, x_n, x)) fraction = std::min(fraction, split_at(*c, match, x_n));
+      [&](int p, std::size_t, int s, const Match<D>& match) {
+        if (const auto c = activation(p, s, match, x_n, x)) fraction = std::min(fraction, split_at(*c, match, x_n));
       },
       &x_n);
   return fraction;
@@ -285,11 +285,9 @@ template <int D>
 SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Positions<D>& x_np1,
                                              StepContactStats& stats, HeldCounts& counts) {
   constexpr double inf = std::numeric_limits<double>::infinity();
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   bool changed = false;
   const bool split = allow_splits_ && locator_.located();
-  std::vector<std::vector<double>> active_gap(static_cast<std::size_t>(collisions_.size()));  // per pair, per slave
-  for (int p = 0; p < collisions_.size(); ++p) active_gap[p].assign(pair(p).slave.nodes.size(), nan);
+  std::map<std::pair<int, int>, double> active_gap;  // by pair and slave node, for the active constraints
   std::vector<Constraint<D>> activated;
   // Constraints by slave node, active and activated here, for repeats().
   std::unordered_multimap<int, std::pair<bool, std::size_t>> by_slave;
@@ -316,25 +314,30 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
     return SetChange::changed;
   }
   double deepest = 0.0, min_gap = inf, max_gap = -inf;
-  collisions_.for_each_match(x_np1, [&](int p, std::size_t i, int s, const Match<D>& match) {
-    deepest = std::max(deepest, -match.projection.gap);
-    if (index_.active_in(p, i)) active_gap[p][i] = match.projection.gap;
-    if (auto c = activation(p, i, s, match, x_n, x_np1)) {
-      if (repeated(*c, false)) {
-        ++counts.repeats;
-        return;
-      }
-      by_slave.emplace(c->slave, std::make_pair(true, activated.size()));
-      if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(*c, match, x_n));
-      if (index_.active_in(p, i)) ++counts.creases;
-      index_.mark(*c, collisions_.pairs());  // a node on two slave surfaces or at a crease: a third is refused
-      activated.push_back(*c);
-    }
-  }, &x_n);
+  collisions_.for_each_match(
+      x_np1,
+      [&](int p, std::size_t, int s, const Match<D>& match) {
+        deepest = std::max(deepest, -match.projection.gap);
+        if (index_.active_in(p, s)) active_gap[{p, s}] = match.projection.gap;
+        if (auto c = activation(p, s, match, x_n, x_np1)) {
+          if (repeated(*c, false)) {
+            ++counts.repeats;
+            return;
+          }
+          by_slave.emplace(c->slave, std::make_pair(true, activated.size()));
+          if (split) stats.split_fraction = std::min(stats.split_fraction, split_at(*c, match, x_n));
+          if (index_.active_in(p, s)) ++counts.creases;
+          index_.mark(*c);  // a node on two slave surfaces or at a crease: a third is refused
+          activated.push_back(*c);
+        }
+      },
+      &x_n);
   for (const Constraint<D>& c : active_) {
     const ContactPair<D>& pr = pair(c.pair);
-    double gap = active_gap[c.pair][static_cast<std::size_t>(pr.slave.local_node(c.slave))];
-    if (std::isnan(gap)) gap = project<D>(x_np1.col(c.slave), facet_nodes<D>(pr.master, c.facet, x_np1)).gap;
+    const auto found = active_gap.find({c.pair, c.slave});
+    const double gap = found != active_gap.end()
+                           ? found->second
+                           : project<D>(x_np1.col(c.slave), facet_nodes<D>(pr.master, c.facet, x_np1)).gap;
     min_gap = std::min(min_gap, gap);
     max_gap = std::max(max_gap, gap);
   }
@@ -387,8 +390,8 @@ ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u, const Eigen::Vect
     const ContactPair<D>& pr = pair(c.pair);
     const auto i = static_cast<std::size_t>(pr.slave.local_node(c.slave));
     const auto match = collisions_.match(c.pair, i, x, normals[c.pair][i], u_n ? &x_n : nullptr);
-    const double gap = match ? match->projection.gap
-                             : project<D>(x.col(c.slave), facet_nodes<D>(pr.master, c.facet, x)).gap;
+    const double gap =
+        match ? match->projection.gap : project<D>(x.col(c.slave), facet_nodes<D>(pr.master, c.facet, x)).gap;
     gaps.min = std::min(gaps.min, gap);
     gaps.max = std::max(gaps.max, gap);
   }

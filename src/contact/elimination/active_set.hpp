@@ -195,19 +195,19 @@ class ActiveSet {
     return locator_.split_at(c, end, pair(c.pair).master, x_n, gap_tolerance(c.pair, c.slave));
   }
   [[nodiscard]] Positions<D> positions(const Eigen::VectorXd& u) const;
-  /// The constraint slave `pair.slave.nodes[i]` (node s) of pair p takes
+  /// The constraint slave node s of pair p takes
   /// for its match at the end of a solve (positions x_np1, the step from
   /// x_n), if any: a slave found behind a facet further than the
   /// penetration tolerance is activated if it holds no constraint of p
   /// (and SlaveIndex::can_hold allows it), or given a crease pair when it
   /// holds one frictionless constraint of p on another facet (forms_crease).
-  [[nodiscard]] std::optional<Constraint<D>> activation(int p, std::size_t i, int s, const Match<D>& match,
-                                                        const Positions<D>& x_n, const Positions<D>& x_np1) const;
+  [[nodiscard]] std::optional<Constraint<D>> activation(int p, int s, const Match<D>& match, const Positions<D>& x_n,
+                                                        const Positions<D>& x_np1) const;
   /// make_constraint with this set's context for slave s of pair p.
   [[nodiscard]] Constraint<D> make(int p, int s, const Match<D>& end, const Positions<D>& x_n,
                                    const Positions<D>& x_np1) const;
   /// The index anew from active_.
-  void index_active() { index_.rebuild(active_, collisions_.pairs()); }
+  void index_active() { index_.rebuild(active_); }
 
   const model::Model<D>& model_;
   CollisionSet<D> collisions_;
@@ -215,10 +215,10 @@ class ActiveSet {
   [[nodiscard]] const ContactPair<D>& pair(int p) const { return collisions_.pair(p); }
   std::vector<Constraint<D>> active_;
   std::vector<double> normal_forces_;
-  SlaveIndex<D> index_;         ///< which slaves hold which constraints
-  ImpactLocator<D> locator_;    ///< gap tolerances, splits, and the events they follow
-  std::vector<int> slot_;       ///< per node: scratch of normal_forces(), −1
-  std::vector<char> held_;      ///< per node: re-activated after a release in this step; not released again
+  SlaveIndex<D> index_;       ///< which slaves hold which constraints
+  ImpactLocator<D> locator_;  ///< gap tolerances, splits, and the events they follow
+  std::vector<int> slot_;     ///< per node: scratch of normal_forces(), −1
+  std::vector<char> held_;    ///< per node: re-activated after a release in this step; not released again
   /// Per node, its friction switches in this step: 1 to slip, 2 to stick (bits).
   std::vector<char> switched_;
   /// Per node: a push-out of it was given up, 1: before this step (an
@@ -232,9 +232,9 @@ class ActiveSet {
   std::int64_t step_ = 0;          ///< the step under way
   double start_mean_force_ = 0.0;  ///< mean f_N of the active slaves at the end of the previous step
   bool allow_splits_ = true;
-  bool coulomb_ = false;   ///< a pair has Coulomb friction μ > 0
-  Eigen::VectorXd v_n_;    ///< with coulomb_: velocities at the step's start
-  double dt_ = 0.0;        ///< with coulomb_: the step's length
+  bool coulomb_ = false;  ///< a pair has Coulomb friction μ > 0
+  Eigen::VectorXd v_n_;   ///< with coulomb_: velocities at the step's start
+  double dt_ = 0.0;       ///< with coulomb_: the step's length
 };
 
 }  // namespace conserve::contact

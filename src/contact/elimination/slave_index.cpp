@@ -8,28 +8,27 @@ template <int D>
 SlaveIndex<D>::SlaveIndex(int num_nodes, const std::vector<ContactPair<D>>& pairs)
     : count_(static_cast<std::size_t>(num_nodes), 0),
       first_pair_(static_cast<std::size_t>(num_nodes), -1),
-      first_normal_(static_cast<std::size_t>(num_nodes), Vec<D>::Zero()) {
-  for (const ContactPair<D>& pr : pairs) {
-    kinds_.push_back(pr.kind);
-    active_in_.emplace_back(pr.slave.nodes.size(), 0);
-  }
+      first_normal_(static_cast<std::size_t>(num_nodes), Vec<D>::Zero()),
+      second_pair_(static_cast<std::size_t>(num_nodes), -1) {
+  for (const ContactPair<D>& pr : pairs) kinds_.push_back(pr.kind);
 }
 
 template <int D>
-void SlaveIndex<D>::rebuild(const std::vector<Constraint<D>>& active, const std::vector<ContactPair<D>>& pairs) {
+void SlaveIndex<D>::rebuild(const std::vector<Constraint<D>>& active) {
   std::fill(count_.begin(), count_.end(), 0);
   std::fill(first_pair_.begin(), first_pair_.end(), -1);
   std::fill(first_normal_.begin(), first_normal_.end(), Vec<D>::Zero());
-  for (auto& flags : active_in_) std::fill(flags.begin(), flags.end(), 0);
-  for (const Constraint<D>& c : active) mark(c, pairs);
+  std::fill(second_pair_.begin(), second_pair_.end(), -1);
+  for (const Constraint<D>& c : active) mark(c);
 }
 
 template <int D>
-void SlaveIndex<D>::mark(const Constraint<D>& c, const std::vector<ContactPair<D>>& pairs) {
+void SlaveIndex<D>::mark(const Constraint<D>& c) {
   const auto s = static_cast<std::size_t>(c.slave);
-  if (count_[s]++ == 0) first_pair_[s] = c.pair, first_normal_[s] = c.normal;
-  const int i = pairs[static_cast<std::size_t>(c.pair)].slave.local_node(c.slave);
-  if (i >= 0) active_in_[static_cast<std::size_t>(c.pair)][static_cast<std::size_t>(i)] = 1;
+  if (count_[s]++ == 0)
+    first_pair_[s] = c.pair, first_normal_[s] = c.normal;
+  else
+    second_pair_[s] = c.pair;
 }
 
 template <int D>

@@ -24,16 +24,19 @@ class SlaveIndex {
   SlaveIndex(int num_nodes, const std::vector<ContactPair<D>>& pairs);
 
   /// The index of `active` anew (constraints of `pairs`, as at construction).
-  void rebuild(const std::vector<Constraint<D>>& active, const std::vector<ContactPair<D>>& pairs);
+  void rebuild(const std::vector<Constraint<D>>& active);
   /// Records constraint c of `pairs`.
-  void mark(const Constraint<D>& c, const std::vector<ContactPair<D>>& pairs);
+  void mark(const Constraint<D>& c);
 
   /// Active constraints node s is the slave of (0–2).
   [[nodiscard]] int count(int s) const { return count_[static_cast<std::size_t>(s)]; }
   /// The pair of the first of them (−1 if none).
   [[nodiscard]] int first_pair(int s) const { return first_pair_[static_cast<std::size_t>(s)]; }
-  /// Whether slave `local` of pair p holds a constraint of p.
-  [[nodiscard]] bool active_in(int p, std::size_t local) const { return active_in_[static_cast<std::size_t>(p)][local] != 0; }
+  /// Whether slave node s holds a constraint of pair p.
+  [[nodiscard]] bool active_in(int p, int s) const {
+    const auto n = static_cast<std::size_t>(s);
+    return (count_[n] > 0 && first_pair_[n] == p) || (count_[n] > 1 && second_pair_[n] == p);
+  }
   /// Whether slave node s may take a constraint of pair p whose facet has
   /// normal `normal`: when it holds none, or holds one frictionless
   /// constraint of another pair whose normal is not near-parallel
@@ -41,11 +44,11 @@ class SlaveIndex {
   [[nodiscard]] bool can_hold(int p, int s, const Vec<D>& normal) const;
 
  private:
-  std::vector<Kind> kinds_;                   ///< per pair
-  std::vector<char> count_;                   ///< per node
-  std::vector<int> first_pair_;               ///< per node
-  std::vector<Vec<D>> first_normal_;          ///< per node: its first constraint's normal
-  std::vector<std::vector<char>> active_in_;  ///< per pair, per slave (local)
+  std::vector<Kind> kinds_;           ///< per pair
+  std::vector<char> count_;           ///< per node
+  std::vector<int> first_pair_;       ///< per node
+  std::vector<Vec<D>> first_normal_;  ///< per node: its first constraint's normal
+  std::vector<int> second_pair_;      ///< per node: the pair of its second constraint
 };
 
 }  // namespace conserve::contact
