@@ -53,9 +53,9 @@ print(sum(seen.values()))')
     echo "$side $n $facets $out $(cat "$out.mem")" >> "$rows"
   done
 done
-python3 - "$rows" "$dim" "$steps" > bench/results/general_contact.md <<'EOF'
+python3 - "$rows" "$dim" "$steps" "$before" > bench/results/general_contact.md <<'EOF'
 import json, sys
-rows, dim, steps = sys.argv[1], sys.argv[2], sys.argv[3]
+rows, dim, steps, before = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 runs = {}
 for line in open(rows):
     side, n, facets, out, elapsed, mem = line.split()
@@ -69,7 +69,10 @@ print(f"# General contact: search cost against the scene ({dim}D, {steps} steps)
 print(f"`bash bench/run_general.sh --dim {dim}`: N balls poured into a box (scripts/make_pour.py), one thread.")
 print("Search: summary.json's contact_search (broad and narrow phase) per step; per facet: that over the")
 print("scene's contact facets. Steps' time: assembly, solves and search. Set-up: the run's wall time before")
-print("and after its steps (meshing, contact pairs and their trees).\n")
+print("and after its steps (meshing, contact pairs and their trees).")
+if before:
+    print(f"Before: the search per step of `{before}` on the same scenes.")
+print()
 head = "| balls | contact facets | search per step [ms] | per facet [µs] | steps' time [s] | set-up [s] | peak memory [MB] | E drift | deepest node behind [m] |"
 if any("before" in r for r in runs.values()):
     head = head.replace("| per facet", "| before [ms] | per facet")
