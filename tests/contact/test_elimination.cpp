@@ -330,8 +330,8 @@ struct PushOutCase {
     pairs[0].slave.nodes = {0};  // a lone slave node: no facets, no normal
     pairs[0].slave.node_facets = {{}};
     u = u_n;
-    u(3 * 2) = stretch;         // node 2 moves along x: the facet stretches
-    u(0) = 0.5 * stretch;       // and the slave slides
+    u(3 * 2) = stretch;    // node 2 moves along x: the facet stretches
+    u(0) = 0.5 * stretch;  // and the slave slides
     Constraint<3> c;
     c.pair = 0;
     c.slave = 0;
@@ -365,6 +365,42 @@ TEST(Elimination, DegeneratePushOutHoldsThePaperRateCondition) {
   held.enforce(stretched.u);
   EXPECT_FALSE(stretched.constraints[0].rate);
   EXPECT_NEAR(stretched.end_gap(), 0.0, 1e-15);
+}
+
+// A slave found just behind a wall's face, low on it: it projects inside
+// the face (its facet, A) and inside the wall's bottom (B, across the
+// convex edge, 10 mm behind). Placing it keeps it on A, at its held gap;
+// B is a neighbour to move to only at a concave edge (scripts/make_pour.py:
+// a sphere's node was moved onto B and held 15 mm "behind" it, inside the
+// wall).
+TEST(Elimination, ASlaveBehindAFaceIsNotMovedRoundAConvexEdge) {
+  Positions<3> X(3, 5);
+  X << 1e-4, 0.0, 0.0, 0.0, 0.05,  // node 0 the slave; 1–2 the edge (along y); 3 up the face, 4 under the wall
+      0.5, 0.0, 1.0, 0.5, 0.5,     //
+      0.01, 0.0, 0.0, 0.05, 0.0;
+  std::vector<ContactPair<3>> pairs(1);
+  pairs[0].master.facets.resize(3, 2);
+  pairs[0].master.facets << 1, 1, 3, 2, 2, 4;  // A = (1, 3, 2) in x = 0, normal −x; B = (1, 2, 4) in z = 0, normal −z
+  build_adjacency(pairs[0].master, 3);
+  ASSERT_EQ(pairs[0].master.facet_neighbours(1, 0), 1);  // across the edge 1–2
+  pairs[0].slave.nodes = {0};
+  pairs[0].slave.node_facets = {{}};
+  Eigen::VectorXd u_n = Eigen::VectorXd::Zero(15), u = Eigen::VectorXd::Zero(15);
+  u_n(0) = -1.1e-3;  // it came from 1 mm in front of A
+  Constraint<3> c;
+  c.pair = 0;
+  c.slave = 0;
+  c.kind = Kind::frictionless;
+  c.facet = 0;
+  c.master = {1, 3, 2};
+  c.gap = 0.0;
+  std::vector<Constraint<3>> constraints{c};
+  Elimination<3> e(X, u_n, u, constraints, pairs);
+  e.enforce(u);
+  EXPECT_EQ(constraints[0].facet, 0);
+  EXPECT_LT((constraints[0].normal - Vec3(-1, 0, 0)).norm(), 1e-12);
+  EXPECT_LE(X(0, 0) + u(0), 1e-15);          // not behind A (placed by (48): back where it started)
+  EXPECT_NEAR(X(2, 0) + u(2), 0.01, 1e-15);  // not pushed down onto B
 }
 
 }  // namespace

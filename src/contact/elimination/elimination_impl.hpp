@@ -674,8 +674,9 @@ void Elimination<D>::expand(const Eigen::VectorXd& q, Eigen::VectorXd& du) const
 // of third order in the step except on the step a slave crosses an edge
 // (contact/elimination/zero_work.hpp). The facet may be switched at most kMaxSwitches
 // times per solve, by walking to the facet the point projects on or, at a
-// concave edge, to a neighbour the slave projects inside with a gap
-// smaller by more than round-off (so that it ends behind neither facet).
+// concave edge (the neighbour rising in front of the facet's plane), to a
+// neighbour the slave projects inside with a gap smaller by more than
+// round-off (so that it ends behind neither facet).
 // The cap keeps Newton's iterates from hopping between facets: a slave on
 // a vertex of a surface whose concavity changes from iterate to iterate
 // (conforming meshes) has no fixed point otherwise. After the cap the
@@ -702,10 +703,17 @@ Match<D> Elimination<D>::settle(const Constraint<D>& k, const Vec<D>& xs, int fa
   // Self-contact: never onto a facet at the slave or its neighbours.
   const std::vector<int> near = (*pairs_)[k.pair].self ? near_nodes(master, k.slave) : std::vector<int>{};
   if (!near.empty() && has_any(master, best.facet, near)) best = start;
+  const FacetNodes<D> here = facet_nodes<D>(master, best.facet, x);
   for (int side = 0; side < D; ++side) {
     const int next = master.facet_neighbours(side, best.facet);
     if (next < 0 || (!near.empty() && has_any(master, next, near))) continue;
-    const Projection<D> p = project<D>(xs, facet_nodes<D>(master, next, x));
+    const FacetNodes<D> there = facet_nodes<D>(master, next, x);
+    // At a concave edge only: the neighbour rises in front of this facet's
+    // plane. Behind a convex one (a slave just behind a wall's face, level
+    // with its bottom) the slave projects inside the face beyond too, far
+    // behind it.
+    if (!((there.rowwise().mean() - here.col(0)).dot(best.projection.normal) > 0.0)) continue;
+    const Projection<D> p = project<D>(xs, there);
     if (p.inside(tol) && p.gap < best.projection.gap - lower && !(p.normal.dot(facing) > 0.0)) best = Match<D>{next, p};
   }
   return best;
