@@ -66,7 +66,7 @@ class CollisionSet {
       const std::vector<Vec<D>> normals = node_normals<D>(pr.slave, x);
       for (const std::size_t i : near) {
         const int s = pr.slave.nodes[i];
-        if (prescribed_[static_cast<std::size_t>(s)]) continue;
+        if (prescribed_[static_cast<std::size_t>(s)] && !pr.slave_driven()) continue;
         if (const auto m = match_in(pr, i, x, normals[i], x_n)) visit(p, i, s, *m);
       }
     }
@@ -123,7 +123,9 @@ class CollisionSet {
   /// Per pair, per slave node (local): the longest edge of its slave facets
   /// in the reference configuration [m].
   std::vector<std::vector<double>> facet_size_;
-  std::vector<char> prescribed_;  ///< per node: some dof prescribed (never a slave)
+  /// Per node: some dof prescribed (never a slave, but of a second pass
+  /// whose slaves are a driven body's, ContactPair::slave_driven).
+  std::vector<char> prescribed_;
   /// The broad phase's surfaces (each once, by name): their nodes, the
   /// largest search distance each is a master with (either way round), and
   /// per pair of surfaces (slave · count + master) the pairs between them.

@@ -51,6 +51,12 @@ struct ContactPair {
   /// Whether this pair's constraints may be left out where they repeat
   /// another's (two passes' second, self-contact).
   [[nodiscard]] bool yields() const { return second_pass || self; }
+  /// A second pass whose slaves are a driven rigid body's nodes: they have
+  /// no unknowns, so each constraint is held by a node of its master facet
+  /// instead (Constraint::eliminated). `fixed`: the master surface's nodes
+  /// with a prescribed dof, sorted, which never hold one.
+  [[nodiscard]] bool slave_driven() const { return second_pass && slave.rigid; }
+  std::vector<int> fixed;
   SearchSettings search;
   FacetTree<D> tree;              ///< over master facets, refitted (refit) before each search
   mutable FacetFrames<D> frames;  ///< of master facets at the tree's positions, filled as searched
@@ -72,6 +78,12 @@ template <int D>
 struct Constraint {
   int pair = -1;
   int slave = -1;  ///< global node
+  /// The node whose unknowns hold the constraint: −1, the slave's; for a
+  /// slave without unknowns (ContactPair::slave_driven), the node of its
+  /// facet with the largest weight among those free to hold it, whose
+  /// normal motion it eliminates (Elimination::make_groups; derived from
+  /// the geometry at each build, not kept in checkpoints).
+  int eliminated = -1;
   Kind kind = Kind::stick;
   /// The master facet (a column of the master surface's facets): stick:
   /// the facet the slave is frozen to; frictionless: the facet the slave's

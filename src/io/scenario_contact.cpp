@@ -72,12 +72,20 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
     s.fail("passes", fmt::format("is 2 for '{}:{}' against itself: self-contact holds every node already", master.body,
                                  master.group),
            "passes = 1 for a surface against itself");
-  if (contact.passes == 2 && find_body(bodies, master.body)->rigid)
+  const BodySpec& master_body = *find_body(bodies, master.body);
+  if (contact.passes == 2 && master_body.rigid && master_body.free)
     s.fail("passes",
-           fmt::format("is 2, but the master '{}' is rigid: its nodes cannot be held out of the slave's facets",
+           fmt::format("is 2, but the master '{}' is a free rigid body: its nodes have no unknowns of their own "
+                       "to be held out of the slave's facets by",
                        master.body),
-           "passes = 1 against a rigid master");
+           "passes = 1 against a free rigid master");
   contact.method = s.string("method");
+  if (contact.passes == 2 && master_body.rigid && contact.kind != ContactKind::frictionless)
+    s.fail("passes",
+           fmt::format("is 2 against the rigid '{}' with kind = \"{}\": a rigid body's nodes are held out of the "
+                       "slave's facets frictionless only",
+                       master.body, s.string("kind")),
+           "passes = 2 with kind = \"frictionless\" against a rigid master, or passes = 1");
   contact.penalty = s.number("penalty");
   contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
   return contact;

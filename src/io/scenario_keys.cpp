@@ -510,8 +510,9 @@ SectionSpec contact_section() {
                .default_value = "1",
                .min = at_least(1),
                .doc = "1: the slave surface's nodes are held out of the master's facets; 2: the master's nodes "
-                      "out of the slave's facets too (two-pass contact: neither side penetrates the other; the "
-                      "master must be deformable; method `elimination` or `penalty`)"},
+                      "out of the slave's facets too (two-pass contact: neither side penetrates the other; "
+                      "method `elimination` or `penalty`; against a rigid master frictionless only, each of its "
+                      "nodes held by a node of the slave's facet)"},
               {.name = "method",
                .type = KeyType::choice,
                .default_value = "elimination",

@@ -75,6 +75,14 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     second.contact = pairs[p].contact;
     second.passes = 2;
     second.second_pass = true;
+    if (second.slave.rigid) {
+      // A driven body's nodes: held by the deformable side's facet nodes,
+      // never by one with a prescribed dof.
+      std::vector<char> held(static_cast<std::size_t>(model.num_nodes()), 0);
+      for (const int d : model.held_dofs()) held[static_cast<std::size_t>(d / D)] = 1;
+      for (const int node : second.master.nodes)
+        if (held[static_cast<std::size_t>(node)]) second.fixed.push_back(node);
+    }
     pairs.push_back(std::move(second));
   }
   return pairs;

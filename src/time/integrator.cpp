@@ -198,6 +198,10 @@ void Integrator<D>::add_impulses(double dt) {
     for (int b = 0; b < D; ++b)
       for (int i = 0; i < D; ++i)
         if (mask_.masked(f.master[b] * D + i)) impulse_[f.master[b] * D + i] += f.weights[b] * f.impulse[i] / dt;
+    // A prescribed slave (a driven body's node in a second pass) takes the
+    // impulse itself: its motion supplies the opposite.
+    for (int i = 0; i < D; ++i)
+      if (mask_.masked(f.slave * D + i)) impulse_[f.slave * D + i] -= f.impulse[i] / dt;
   }
 }
 

@@ -235,13 +235,16 @@ TEST(ScenarioContact, APairOfSurfacesIsGivenOnceInOneDirection) {
 }
 
 // passes: 1 (the default) or 2, two only against a deformable master.
-TEST(ScenarioContact, PassesAreOneOrTwoAgainstADeformableMaster) {
+TEST(ScenarioContact, PassesAreOneOrTwoAndFrictionlessAgainstARigidMaster) {
   EXPECT_EQ(parse_scenario(contact("a:top", "a:bottom"), case_file()).contacts[0].passes, 1);
   EXPECT_EQ(parse_scenario(contact("a:top", "a:bottom", "passes = 2\n"), case_file()).contacts[0].passes, 2);
   EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 3\n"), 25, "contact[0].passes", "3 passes"));
   EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 0\n"), 25, "contact[0].passes", ""));
   EXPECT_TRUE(fails_with(contact("a", "plane", "passes = 2\n"), 25, "contact[0].passes",
-                         "is 2, but the master 'plane' is rigid"));
+                         "is 2 against the rigid 'plane' with kind = \"stick\""));
+  std::string frictionless = contact("a", "plane", "passes = 2\n");
+  frictionless.replace(frictionless.find("\"stick\""), 7, "\"frictionless\"");
+  EXPECT_EQ(parse_scenario(frictionless, case_file()).contacts[0].passes, 2);
   EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 2\nmethod = \"lagrange\"\n"), 25,
                          "contact[0].passes", "is 2 with method = \"lagrange\""));
 }

@@ -54,11 +54,14 @@ TaylorOrder reduced_tangent_order(ContactRun<D>& run, const std::vector<int>* no
   const std::size_t count = base.constraints().size();
   std::vector<char> skip(model.num_dofs(), 0);
   for (int d : model.prescribed.dofs) skip[d] = 1;
-  // Dummy slots: a frictionless slave has D − (its constraints) slips, stick none.
+  // Dummy slots: a frictionless slave has D − (its constraints) slips,
+  // stick none; a driven slave's constraint has them at the node holding it.
   std::vector<int> held(model.num_nodes(), 0);
-  for (const auto& c : at_base->constraints) ++held[c.slave];
+  auto holder = [](const contact::Constraint<D>& c) { return c.eliminated >= 0 ? c.eliminated : c.slave; };
+  for (const auto& c : at_base->constraints) ++held[holder(c)];
   for (const auto& c : at_base->constraints)
-    for (int i = (c.kind == contact::Kind::frictionless ? D - held[c.slave] : 0); i < D; ++i) skip[c.slave * D + i] = 1;
+    for (int i = (c.kind == contact::Kind::frictionless ? D - held[holder(c)] : 0); i < D; ++i)
+      skip[holder(c) * D + i] = 1;
   auto without_skipped = [&](Eigen::VectorXd v) {
     for (int i = 0; i < model.num_dofs(); ++i)
       if (skip[i]) v[i] = 0.0;

@@ -249,7 +249,11 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
     for (int a = 0; a < D; ++a) xm.col(a) = x_mid.col(c.master[a]);
     c.normal = facet_normal<D>(xm);
   }
-  const std::vector<double> forces = contact::normal_forces(active_, g, slot_);
+  std::vector<double> forces = contact::normal_forces(active_, g, slot_);
+  // A driven slave's constraint left out of the last maps (no node of its
+  // facet free to hold it) carried no force: kept.
+  for (std::size_t j = 0; j < active_.size(); ++j)
+    if (active_[j].eliminated < 0 && collisions_.pairs()[active_[j].pair].slave_driven()) forces[j] = 0.0;
   std::vector<Constraint<D>> kept;
   normal_forces_.clear();
   std::map<int, int> held_by;  // constraints per slave
@@ -257,7 +261,8 @@ bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::Vecto
   for (std::size_t j = 0; j < active_.size(); ++j) {
     Constraint<D>& c = active_[j];
     const double f_n = forces[j];
-    c.force = held_by[c.slave] == 1 ? Vec<D>(g.template segment<D>(c.slave * D)) : Vec<D>(f_n * c.normal);
+    c.force = held_by[c.slave] == 1 && c.eliminated < 0 ? Vec<D>(g.template segment<D>(c.slave * D))
+                                                        : Vec<D>(f_n * c.normal);
     c.mid = x_mid.col(c.slave);
     if (f_n < 0.0 && !held_[c.slave]) {
       locator_.released(c.slave);
@@ -304,9 +309,20 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   // Slaves that came onto each other's nodes while held: the constraint
   // that gives way (gives_way: the second pass's, or self-contact's of the
   // larger slave) goes, and the step is solved again without it.
+  // A driven slave's constraint (ContactPair::slave_driven) that no node
+  // of its facet was free to hold at the last build (they hold others, or
+  // are prescribed) repeats those: it goes too.
+  auto unheld = [&](const Constraint<D>& c) {
+    const ContactPair<D>& pr = pair(c.pair);
+    if (!pr.slave_driven()) return false;
+    return std::all_of(c.master.begin(), c.master.end(), [&](int m) {
+      return by_slave.count(m) > 0 || std::binary_search(pr.fixed.begin(), pr.fixed.end(), m);
+    });
+  };
   for (std::size_t k = 0; k < active_.size(); ++k) by_slave.emplace(active_[k].slave, std::make_pair(false, k));
   for (std::size_t k = 0; k < active_.size(); ++k) {
-    if (!pair(active_[k].pair).yields() || !repeated(active_[k], true)) continue;
+    const bool left_out = pair(active_[k].pair).slave_driven() && active_[k].eliminated < 0;
+    if (!left_out && (!pair(active_[k].pair).yields() || !repeated(active_[k], true))) continue;
     active_.erase(active_.begin() + static_cast<std::ptrdiff_t>(k));
     normal_forces_.erase(normal_forces_.begin() + static_cast<std::ptrdiff_t>(k));
     ++counts.repeats;
@@ -320,7 +336,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
         deepest = std::max(deepest, -match.projection.gap);
         if (index_.active_in(p, s)) active_gap[{p, s}] = match.projection.gap;
         if (auto c = activation(p, s, match, x_n, x_np1)) {
-          if (repeated(*c, false)) {
+          if (repeated(*c, false) || unheld(*c)) {
             ++counts.repeats;
             return;
           }

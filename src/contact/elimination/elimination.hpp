@@ -183,8 +183,21 @@ class Elimination {
   [[nodiscard]] PairKernel pair_input(const Group& g, const Eigen::VectorXd& u) const;
   /// Marks the second pass's constraints that repeat another at u (suspended_).
   void suspend_repeats(const Eigen::VectorXd* u);
-  /// Groups of the constraints not suspended.
-  void make_groups();
+  /// Groups of the constraints not suspended at u (if given), the driven
+  /// slaves' holders chosen last.
+  void make_groups(const Eigen::VectorXd* u);
+  /// The node that holds driven constraint k with its slave at ξ on its
+  /// facet (group: its own group, whose node may be kept), or −1.
+  [[nodiscard]] int holder(const Constraint<D>& k, const Xi<D>& xi, int group) const;
+  /// The position of `node` among k's facet nodes.
+  [[nodiscard]] static int facet_index(const Constraint<D>& k, int node);
+  /// The trial map of driven constraint k (held by k.eliminated) at
+  /// positions x (k's stored ξ, n, τ without geometry).
+  [[nodiscard]] Coefficients driven_trial(const Constraint<D>& k, const Positions<D>& x) const;
+  /// Places driven constraint k's holder (group: its group).
+  void place_driven(Constraint<D>& k, int group, Positions<D>& x, Positions<D>& x_mid, int& switches) const;
+  /// u at the nodes placement moved, from x.
+  void write_placed(const Positions<D>& x, Eigen::VectorXd& u) const;
   /// The groups' local coefficients and composed rows at u.
   void compose(const Eigen::VectorXd* u);
   void build(const Eigen::VectorXd* u);

@@ -220,6 +220,31 @@ Eigen::Matrix<AD<N>, R, C> variables(const Eigen::Matrix<double, R, C>& x) {
   return y;
 }
 
+/// A driven slave's constraint held by node b of its facet (kernel column
+/// 1 + b): the force directions the zero-work kernel gives its nodes, c_s =
+/// ν (the slave) and c_j = −T_jᵀ ν (facet node j), the columns of `c` in
+/// kernel order; and the directions `slip` b's residual is kept in, an
+/// orthonormal basis of the plane normal to c_b (from the kernel's slips,
+/// so that they vary smoothly with the positions).
+template <int D, class S>
+void driven_forces(const zero_work::TestColumns<D, S>& t, int b, Eigen::Matrix<S, D, D + 1>& c,
+                   Eigen::Matrix<S, D, D - 1>& slip) {
+  const Eigen::Matrix<S, D, 1> nu = missed_direction<D, S>(t.slip);
+  c.col(0) = nu;
+  for (int j = 0; j < D; ++j) c.col(1 + j) = -(t.master.middleCols(j * D, D).transpose() * nu);
+  const Eigen::Matrix<S, D, 1> f = c.col(1 + b) / sqrt(c.col(1 + b).squaredNorm());
+  for (int k = 0; k < D - 1; ++k) {
+    Eigen::Matrix<S, D, 1> v = t.slip.col(k) - f * f.dot(t.slip.col(k));
+    for (int i = 0; i < k; ++i) v -= slip.col(i) * slip.col(i).dot(v);
+    slip.col(k) = v / sqrt(v.squaredNorm());
+  }
+}
+
+/// The smallest weight, relative to the largest of its facet's nodes, of
+/// the node that holds a driven slave's constraint: below it the
+/// constraint repeats the one of the node it is at, and is left out.
+constexpr double kHolderWeight = 1e-2;
+
 }  // namespace
 
 template <int D>
@@ -279,6 +304,22 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
   l.trial.master = p.normal * (p.normal.transpose() * shape_block<D>(p.xi));
   l.trial.slip = p.tangents;
   const auto t = zero_work::frictionless_test<D, double>(in.x, in.dx, !k.push, k.friction, k.slip_scale);
+  if (k.eliminated >= 0) {
+    // Held by facet node b: the same force pair, its remainder passed on
+    // from b's residual along c_b, W_bx = −ĉ c_xᵀ/|c_b|.
+    const int b = facet_index(k, k.eliminated);
+    l.trial = driven_trial(k, positions(u));
+    Eigen::Matrix<double, D, D + 1> c;
+    driven_forces<D, double>(t, b, c, l.test.slip);
+    const double size = c.col(1 + b).norm();
+    const Vec<D> f = c.col(1 + b) / size;
+    l.test.nodes = l.trial.nodes;
+    l.test.master.resize(D, D * D);
+    for (int a = 0, col = 0; a <= D; ++a)
+      if (a != 1 + b) l.test.master.middleCols(D * col++, D) = -f * c.col(a).transpose() / size;
+    l.cosine = t.cosine;
+    return l;
+  }
   const Vec<D> nu = missed_direction<D, double>(t.slip);
   l.test.master = nu * (nu.transpose() * t.master);
   l.test.slip = t.slip;
@@ -315,13 +356,74 @@ void Elimination<D>::suspend_repeats(const Eigen::VectorXd* u) {
   }
 }
 
+// A driven slave (ContactPair::slave_driven) has no unknowns; its
+// constraint is held by the node of its facet with the largest weight at
+// the slave's projection among those that hold nothing else and have no
+// prescribed dof (ties: the lower node), chosen after every other group.
 template <int D>
-void Elimination<D>::make_groups() {
+int Elimination<D>::holder(const Constraint<D>& k, const Xi<D>& xi, int group) const {
+  const std::vector<int>& fixed = (*pairs_)[k.pair].fixed;
+  const Vec<D> N = facet_shape<D>(xi);
+  int best = -1;
+  for (int a = 0; a < D; ++a) {
+    const int m = k.master[a];
+    if ((slave_of_[m] >= 0 && slave_of_[m] != group) || std::binary_search(fixed.begin(), fixed.end(), m)) continue;
+    if (best < 0 || N(a) > N(best) || (N(a) == N(best) && m < k.master[best])) best = a;
+  }
+  if (best < 0 || !(N(best) >= kHolderWeight * N.maxCoeff())) return -1;
+  return k.master[best];
+}
+
+template <int D>
+int Elimination<D>::facet_index(const Constraint<D>& k, int node) {
+  for (int a = 0; a < D; ++a)
+    if (k.master[a] == node) return a;
+  throw Error(fmt::format("node {} is not on the facet of slave {}'s constraint", node, k.slave));
+}
+
+// The trial map of a driven slave's constraint held by node b: b moves
+// along n so that the gap n·(x_s − Σ N_j x_j) stays (to first order, exact
+// for a flat facet), δx_b = n nᵀ(δx_s − Σ_{j≠b} N_j δx_j)/N_b + τ δξ; its
+// nodes the slave, then the facet's other nodes in order.
+template <int D>
+typename Elimination<D>::Coefficients Elimination<D>::driven_trial(const Constraint<D>& k,
+                                                                   const Positions<D>& x) const {
+  const int b = facet_index(k, k.eliminated);
+  Vec<D> n = k.normal;
+  Vec<D> N = facet_shape<D>(k.xi);
+  Tangents<D> tangents = k.tangents;
+  if (pairs_) {
+    const Projection<D> p = project<D>(x.col(k.slave), facet_nodes<D>((*pairs_)[k.pair].master, k.facet, x));
+    n = p.normal;
+    N = facet_shape<D>(p.xi);
+    tangents = p.tangents;
+  }
+  Coefficients l;
+  l.nodes.push_back(k.slave);
+  l.master.resize(D, D * D);
+  const Mat<D> nn = n * n.transpose() / N(b);
+  l.master.leftCols(D) = nn;
+  for (int a = 0; a < D; ++a)
+    if (a != b) {
+      l.master.middleCols(D * static_cast<Eigen::Index>(l.nodes.size()), D) = -N(a) * nn;
+      l.nodes.push_back(k.master[a]);
+    }
+  l.slip = tangents;
+  return l;
+}
+
+template <int D>
+void Elimination<D>::make_groups(const Eigen::VectorXd* u) {
   groups_.clear();
   slave_of_.assign(num_nodes_, -1);
+  std::vector<std::size_t> driven;
   for (std::size_t c = 0; c < constraints_->size(); ++c) {
     if (suspended_[c]) continue;
-    const Constraint<D>& k = (*constraints_)[c];
+    Constraint<D>& k = (*constraints_)[c];
+    if (pairs_ && (*pairs_)[k.pair].slave_driven()) {
+      driven.push_back(c);
+      continue;
+    }
     int& g = slave_of_[k.slave];
     if (g < 0) {
       g = static_cast<int>(groups_.size());
@@ -337,6 +439,20 @@ void Elimination<D>::make_groups() {
           group.count + 1));
     group.constraint[1] = static_cast<int>(c);
     group.count = 2;
+  }
+  std::optional<Positions<D>> x;
+  if (u && !driven.empty()) x = positions(*u);
+  for (const std::size_t c : driven) {
+    Constraint<D>& k = (*constraints_)[c];
+    const Xi<D> xi =
+        x ? project<D>(x->col(k.slave), facet_nodes<D>((*pairs_)[k.pair].master, k.facet, *x)).xi : k.xi;
+    k.eliminated = holder(k, xi, -1);
+    if (k.eliminated < 0) {
+      suspended_[c] = 1;
+      continue;
+    }
+    slave_of_[k.eliminated] = static_cast<int>(groups_.size());
+    groups_.push_back(Group{k.eliminated, 1, {static_cast<int>(c), -1}});
   }
 }
 
@@ -438,7 +554,7 @@ void Elimination<D>::build(const Eigen::VectorXd* u) {
 
 template <int D>
 void Elimination<D>::compose(const Eigen::VectorXd* u) {
-  make_groups();
+  make_groups(u);
   std::vector<Local> locals;
   locals.reserve(groups_.size());
   const bool geometry = u && pairs_;
@@ -453,6 +569,12 @@ void Elimination<D>::compose(const Eigen::VectorXd* u) {
       continue;
     }
     Local l;  // no geometry: the slave on its facet at ξ, the paper's maps
+    if (k.eliminated >= 0) {
+      l.trial = driven_trial(k, Positions<D>());
+      l.test = l.trial;
+      locals.push_back(std::move(l));
+      continue;
+    }
     l.trial.nodes.assign(k.master.begin(), k.master.end());
     l.trial.master = shape_block<D>(k.xi);
     if (k.kind == Kind::frictionless) l.trial.slip = k.tangents;
@@ -555,12 +677,33 @@ void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) 
   const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx), !k.push, k.friction,
                                                         k.slip_scale);
   const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
+  auto node = [&](int a) { return a == 0 ? k.slave : k.master[a - 1]; };
+  if (k.eliminated >= 0) {
+    // Held by facet node b: outputs λ c_x at the other nodes, with
+    // λ = −ĉ·g_b/|c_b|, and b's slips.
+    const int b = facet_index(k, k.eliminated);
+    Eigen::Matrix<AD<N>, D, D + 1> cf;
+    Eigen::Matrix<AD<N>, D, D - 1> slip;
+    driven_forces<D, AD<N>>(t, b, cf, slip);
+    const AD<N> lambda = -cf.col(1 + b).dot(gs) / cf.col(1 + b).squaredNorm();
+    Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();
+    for (int a = 0; a <= D; ++a) {
+      if (a == 1 + b) {
+        for (int j = 0; j < D - 1; ++j) G.row(a * D + j) = slip.col(j).dot(gs).derivatives().transpose();
+        continue;
+      }
+      for (int i = 0; i < D; ++i) G.row(a * D + i) = (lambda * cf(i, a)).derivatives().transpose();
+    }
+    for (int a = 0; a <= D; ++a)
+      for (int e = 0; e <= D; ++e)
+        add_variation_block(c, node(a), a == 1 + b, node(e), G.template block<D, D>(a * D, e * D), K_r);
+    return;
+  }
   Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();  // outputs: the slips (row D−1 zero), the facet
   for (int j = 0; j < D - 1; ++j) G.row(j) = t.slip.col(j).dot(gs).derivatives().transpose();
   const Eigen::Matrix<AD<N>, D, 1> nu = missed_direction<D, AD<N>>(t.slip);  // as local()
   const AD<N> along = nu.dot(gs);
   for (int o = 0; o < D * D; ++o) G.row(D + o) = (nu.dot(t.master.col(o)) * along).derivatives().transpose();
-  auto node = [&](int a) { return a == 0 ? k.slave : k.master[a - 1]; };
   for (int a = 0; a <= D; ++a)
     for (int b = 0; b <= D; ++b)
       add_variation_block(c, node(a), a == 0, node(b), G.template block<D, D>(a * D, b * D), K_r);
@@ -592,6 +735,7 @@ Eigen::MatrixXd Elimination<D>::force_variation(std::size_t c, const Vec<D>& f) 
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(N, N);
   if (groups_[c].count == 2) return G;
   const Constraint<D>& k = (*constraints_)[groups_[c].constraint[0]];
+  if (k.eliminated >= 0) return G;  // a driven slave's (not differentiated)
   const Kernel in = kernel_input(k, u_);
   if (k.kind == Kind::stick) {
     constexpr int M = D * D;
@@ -762,6 +906,61 @@ void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Posit
   set_mid_point(k, facet, x_mid);
 }
 
+// A driven slave's constraint: its holder b moves along the facet's
+// normal n (at the start of the placement) until the slave's gap is γ, or
+// under (48) until its normal rate relative to its point of the facet is
+// zero: r = N_b (d·n) δ, Newton on the one scalar. The facet is the one the
+// slave projects on (settle); a switch takes the new facet's holder.
+template <int D>
+void Elimination<D>::place_driven(Constraint<D>& k, int group, Positions<D>& x, Positions<D>& x_mid,
+                                  int& switches) const {
+  const ContactSurface& master = (*pairs_)[k.pair].master;
+  const Vec<D> xs = x.col(k.slave);
+  const Vec<D> xs_n = X_.col(k.slave) + u_n_.template segment<D>(k.slave * D);
+  const Match<D> best = settle(k, xs, k.facet, x, switches);
+  if (best.facet != k.facet) {
+    ++switches;
+    k.facet = best.facet;
+    for (int a = 0; a < D; ++a) k.master[a] = master.facets(a, best.facet);
+  }
+  if (std::find(k.master.begin(), k.master.end(), k.eliminated) == k.master.end())
+    k.eliminated = holder(k, best.projection.xi, group);
+  if (k.eliminated < 0) {  // left out at the next build
+    set_mid_point(k, k.facet, x_mid);
+    return;
+  }
+  const int b = k.eliminated, jb = facet_index(k, b);
+  const Vec<D> xb_n = X_.col(b) + u_n_.template segment<D>(b * D);
+  Vec<D> direction = Vec<D>::Zero();
+  double previous = std::numeric_limits<double>::infinity();
+  for (int iteration = 0; iteration < kCycleIterations; ++iteration) {
+    double r = 0.0;
+    Vec<D> n, N;
+    if (k.rate) {
+      x_mid.col(b) = 0.5 * (x.col(b) + xb_n);
+      set_mid_point(k, k.facet, x_mid);
+      N = facet_shape<D>(k.xi);
+      Vec<D> relative = xs - xs_n;
+      for (int a = 0; a < D; ++a)
+        relative -= N(a) * (x.col(k.master[a]) - X_.col(k.master[a]) - u_n_.template segment<D>(k.master[a] * D));
+      n = k.normal;
+      r = relative.dot(n);
+    } else {
+      const Projection<D> p = project<D>(xs, facet_nodes<D>(master, k.facet, x));
+      N = facet_shape<D>(p.xi);
+      n = p.normal;
+      r = p.gap - k.gap;
+    }
+    if (iteration == 0) direction = n;
+    const double scale = std::max(xs.cwiseAbs().maxCoeff(), x.col(b).cwiseAbs().maxCoeff());
+    if (std::abs(r) <= 4.0 * std::numeric_limits<double>::epsilon() * scale || !(std::abs(r) < previous)) break;
+    previous = std::abs(r);
+    x.col(b) += (r / (N(jb) * direction.dot(n))) * direction;
+  }
+  x_mid.col(b) = 0.5 * (x.col(b) + xb_n);
+  set_mid_point(k, k.facet, x_mid);
+}
+
 // Both gaps at once: the slave moves by −C e, e the two gaps' errors and
 // C = [n_1 n_2] G⁻¹, the least move that holds both (exact for flat
 // facets); the facets are settled as for one constraint, except that the
@@ -812,6 +1011,10 @@ void Elimination<D>::place(const Group& g, Positions<D>& x, Positions<D>& x_mid)
   }
   const int c = g.constraint[0];
   Constraint<D>& k = (*constraints_)[c];
+  if ((*pairs_)[k.pair].slave_driven()) {
+    place_driven(k, slave_of_[g.slave], x, x_mid, switches_[c]);
+    return;
+  }
   if (k.kind == Kind::stick) {  // (45): the slave at its point of the facet's frame
     zero_work::Facet<D, double> xm;
     for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
@@ -832,6 +1035,7 @@ typename Elimination<D>::Coefficients Elimination<D>::placement(const Group& g, 
     return local_pair(g, &u).trial;
   }
   const Constraint<D>& k = (*constraints_)[g.constraint[0]];
+  if (k.eliminated >= 0) return driven_trial(k, x);
   Coefficients p;
   p.nodes.assign(k.master.begin(), k.master.end());
   zero_work::Facet<D, double> xm;
@@ -903,19 +1107,28 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
     for (const Group& g : groups_) place(g, x, x_mid);
   for (const EliminationComponent& k : components_)
     if (k.coupling.size() > 0) place_cycle(k.members, x, x_mid);
-  for (const Constraint<D>& k : *constraints_)
-    u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
+  write_placed(x, u);
   build(&u);
   if (!switch_to_rate()) return;
   for (const Group& g : groups_) {
     Constraint<D>& k = (*constraints_)[g.constraint[0]];
-    if (g.count == 1 && k.rate) place_frictionless(k, x, x_mid, switches_[g.constraint[0]]);
+    if (g.count == 1 && k.rate) place(g, x, x_mid);
   }
   for (const EliminationComponent& k : components_)
     if (k.coupling.size() > 0) place_cycle(k.members, x, x_mid);
-  for (const Constraint<D>& k : *constraints_)
-    u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
+  write_placed(x, u);
   build(&u);
+}
+
+// The nodes placement moves: the slaves, and the facet nodes that hold
+// driven slaves' constraints (before and after a facet switch).
+template <int D>
+void Elimination<D>::write_placed(const Positions<D>& x, Eigen::VectorXd& u) const {
+  for (const Constraint<D>& k : *constraints_) {
+    if (!(*pairs_)[k.pair].slave_driven()) u.template segment<D>(k.slave * D) = x.col(k.slave) - X_.col(k.slave);
+    if (k.eliminated >= 0) u.template segment<D>(k.eliminated * D) = x.col(k.eliminated) - X_.col(k.eliminated);
+  }
+  for (const int s : slaves_) u.template segment<D>(s * D) = x.col(s) - X_.col(s);
 }
 
 // A held gap asks for a zero-work force direction ā that differs from the

@@ -22,6 +22,14 @@ std::vector<double> normal_forces(const std::vector<Constraint<D>>& active, cons
   for (std::size_t j = 0; j < n; ++j) {
     const Constraint<D>& c = active[j];
     slot[static_cast<std::size_t>(c.slave)] = -1;
+    if (c.eliminated >= 0) {
+      // A driven slave's constraint, held by its facet's node b: b's
+      // residual carries N_b of the force, on the facet's side.
+      int b = 0;
+      while (c.master[b] != c.eliminated) ++b;
+      f[j] = -g.template segment<D>(c.eliminated * D).dot(c.normal) / facet_shape<D>(c.xi)(b);
+      continue;
+    }
     const Vec<D> g_s = g.template segment<D>(c.slave * D);
     if (partner[j] < 0) {
       f[j] = g_s.dot(c.normal);

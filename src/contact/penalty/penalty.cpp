@@ -71,6 +71,7 @@ double automatic_penalty(const model::Model<D>& model, const ContactPair<D>& pai
     std::nth_element(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(h.size() / 2), h.end());
     return young_modulus(*model.bodies[static_cast<std::size_t>(side.body)].law) / h[h.size() / 2];
   };
+  if (pair.slave.rigid) return stiffness(pair.master);  // a driven body's nodes in a second pass
   const double slave = stiffness(pair.slave);
   return pair.master.rigid ? slave : std::min(slave, stiffness(pair.master));
 }
