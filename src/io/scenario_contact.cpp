@@ -66,13 +66,13 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
   contact.friction = friction_of(s);
   contact.depth_factor = s.number("depth_factor");
   contact.passes = s.integer("passes");
+  const BodySpec& master_body = *find_body(bodies, master.body);
   if (contact.passes > 2)
     s.fail("passes", fmt::format("{} passes", contact.passes), "1 (slave nodes held) or 2 (both sides' nodes held)");
   if (contact.passes == 2 && master.body == slave.body && master.group == slave.group)
     s.fail("passes", fmt::format("is 2 for '{}:{}' against itself: self-contact holds every node already", master.body,
                                  master.group),
            "passes = 1 for a surface against itself");
-  const BodySpec& master_body = *find_body(bodies, master.body);
   if (contact.passes == 2 && master_body.rigid && master_body.free)
     s.fail("passes",
            fmt::format("is 2, but the master '{}' is a free rigid body: its nodes have no unknowns of their own "
@@ -80,12 +80,16 @@ ContactSpec parse_contact(const Section& s, const std::vector<BodySpec>& bodies)
                        master.body),
            "passes = 1 against a free rigid master");
   contact.method = s.string("method");
-  if (contact.passes == 2 && master_body.rigid && contact.kind != ContactKind::frictionless)
+  // Measured with every [[contact]] in two passes: stick and Coulomb
+  // pairs lost E + D by 1.7e-2 (2D) and 3.8e-2 (3D) on an oblique impact
+  // (Friction.ObliqueImpactKeepsMomentaAndEnergyWithTheDissipation), and
+  // their reduced tangent was of first order.
+  if (contact.passes == 2 && contact.kind != ContactKind::frictionless)
     s.fail("passes",
-           fmt::format("is 2 against the rigid '{}' with kind = \"{}\": a rigid body's nodes are held out of the "
-                       "slave's facets frictionless only",
-                       master.body, s.string("kind")),
-           "passes = 2 with kind = \"frictionless\" against a rigid master, or passes = 1");
+           fmt::format("is 2 with kind = \"{}\": two passes hold frictionless constraints only (with stick or "
+                       "friction they do not yet keep the energy)",
+                       s.string("kind")),
+           "passes = 2 with kind = \"frictionless\", or passes = 1");
   contact.penalty = s.number("penalty");
   contact.penalty_force = s.string("penalty_force") == "midpoint" ? PenaltyForce::midpoint : PenaltyForce::conserving;
   return contact;
@@ -114,11 +118,6 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
         if (table.has(key))
           table.fail(key, "is read by method = \"penalty\" only",
                      fmt::format("no {} key, or method = \"penalty\"", key));
-    if (c.passes == 2 && c.method == "lagrange")
-      table.fail("passes",
-                 "is 2 with method = \"lagrange\": the multipliers do not yet leave out the second pass's "
-                 "constraints that repeat the first's",
-                 "passes = 2 with method = \"elimination\" or \"penalty\"");
     if (!contacts.empty() && c.penalty_force != contacts.front().penalty_force)
       table.fail("penalty_force", "differs from contact[0]'s; one force evaluation serves every pair",
                  "the same penalty_force in every [[contact]]");
@@ -145,7 +144,7 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
 
 // Every two bodies not excluded, and each deformable one with itself:
 // deformable pairs in two passes (the earlier body's nodes as the first
-// pass's slaves), a deformable body's nodes against a rigid one's facets,
+// pass's slaves; one with stick or friction), a deformable body's nodes against a rigid one's facets,
 // rigid pairs none; whole boundaries.
 std::vector<ContactSpec> parse_general_contact(const Section& top, const std::vector<BodySpec>& bodies,
                                                bool with_pairs) {
@@ -195,6 +194,7 @@ std::vector<ContactSpec> parse_general_contact(const Section& top, const std::ve
     std::sort(key.begin(), key.end());
     for (const Override& o : overrides)
       if (o.bodies == key) c.kind = o.kind, c.friction = o.friction;
+    if (c.kind != ContactKind::frictionless) c.passes = 1;  // two passes hold frictionless constraints only
     out.push_back(std::move(c));
   };
   for (std::size_t i = 0; i < bodies.size(); ++i) {

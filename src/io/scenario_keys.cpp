@@ -510,9 +510,9 @@ SectionSpec contact_section() {
                .default_value = "1",
                .min = at_least(1),
                .doc = "1: the slave surface's nodes are held out of the master's facets; 2: the master's nodes "
-                      "out of the slave's facets too (two-pass contact: neither side penetrates the other; "
-                      "method `elimination` or `penalty`; against a rigid master frictionless only, each of its "
-                      "nodes held by a node of the slave's facet)"},
+                      "out of the slave's facets too (two-pass contact: neither side penetrates the other; kind "
+                      "`frictionless` only; against a rigid master each of its nodes is held by a node of the "
+                      "slave's facet)"},
               {.name = "method",
                .type = KeyType::choice,
                .default_value = "elimination",
@@ -541,7 +541,8 @@ SectionSpec contact_section() {
 
 SectionSpec general_contact_section() {
   return {.name = "general_contact",
-          .doc = "Contact between all bodies: its presence pairs every two bodies (both deformable: two passes; "
+          .doc = "Contact between all bodies: its presence pairs every two bodies (both deformable: two passes if "
+                 "frictionless, else one; "
                  "one rigid: the deformable one's nodes against the rigid one's facets; two rigid: none) and each "
                  "deformable body with itself (self-contact), their whole boundaries, instead of [[contact]] "
                  "tables (the two are not combined).",
@@ -559,7 +560,7 @@ SectionSpec general_contact_section() {
               {.name = "method",
                .type = KeyType::choice,
                .default_value = "elimination",
-               .choices = {"elimination", "penalty"},
+               .choices = {"elimination", "lagrange", "penalty"},
                .doc = "constraint method, as [[contact]] `method`"},
               {.name = "exclude",
                .type = KeyType::names,

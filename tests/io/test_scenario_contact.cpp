@@ -234,19 +234,26 @@ TEST(ScenarioContact, APairOfSurfacesIsGivenOnceInOneDirection) {
   EXPECT_NO_THROW(parse_scenario(contact("a:top", "a:bottom", other), case_file()));
 }
 
-// passes: 1 (the default) or 2, two only against a deformable master.
-TEST(ScenarioContact, PassesAreOneOrTwoAndFrictionlessAgainstARigidMaster) {
+// passes: 1 (the default) or 2, two with kind = "frictionless" only, with
+// any constraint method, against a deformable or a driven rigid master.
+TEST(ScenarioContact, PassesAreOneOrTwoAndTwoAreFrictionless) {
+  auto frictionless = [](std::string text) {
+    text.replace(text.find("\"stick\""), 7, "\"frictionless\"");
+    return text;
+  };
   EXPECT_EQ(parse_scenario(contact("a:top", "a:bottom"), case_file()).contacts[0].passes, 1);
-  EXPECT_EQ(parse_scenario(contact("a:top", "a:bottom", "passes = 2\n"), case_file()).contacts[0].passes, 2);
+  EXPECT_EQ(parse_scenario(frictionless(contact("a:top", "a:bottom", "passes = 2\n")), case_file()).contacts[0].passes,
+            2);
   EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 3\n"), 25, "contact[0].passes", "3 passes"));
   EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 0\n"), 25, "contact[0].passes", ""));
-  EXPECT_TRUE(fails_with(contact("a", "plane", "passes = 2\n"), 25, "contact[0].passes",
-                         "is 2 against the rigid 'plane' with kind = \"stick\""));
-  std::string frictionless = contact("a", "plane", "passes = 2\n");
-  frictionless.replace(frictionless.find("\"stick\""), 7, "\"frictionless\"");
-  EXPECT_EQ(parse_scenario(frictionless, case_file()).contacts[0].passes, 2);
-  EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 2\nmethod = \"lagrange\"\n"), 25,
-                         "contact[0].passes", "is 2 with method = \"lagrange\""));
+  EXPECT_TRUE(fails_with(contact("a:top", "a:bottom", "passes = 2\n"), 25, "contact[0].passes",
+                         "is 2 with kind = \"stick\": two passes hold frictionless constraints only"));
+  EXPECT_EQ(parse_scenario(frictionless(contact("a", "plane", "passes = 2\n")), case_file()).contacts[0].passes, 2);
+  EXPECT_EQ(parse_scenario(frictionless(contact("a:top", "a:bottom", "passes = 2\nmethod = \"lagrange\"\n")),
+                           case_file())
+                .contacts[0]
+                .method,
+            "lagrange");
 }
 
 TEST(ScenarioContact, RigidBodyCannotBeTheSlave) {
@@ -345,7 +352,8 @@ std::string three_bodies(std::string_view rest) {
       std::string(rest));
 }
 
-// [general_contact]: deformable pairs in two passes, a deformable body's
+// [general_contact]: deformable pairs in two passes (frictionless; one
+// with friction), a deformable body's
 // nodes against a rigid one's facets, each deformable body with itself,
 // whole boundaries; exclusions and one pair's own kind.
 TEST(ScenarioGeneralContact, PairsEveryBodyAndEachWithItself) {
@@ -374,6 +382,7 @@ TEST(ScenarioGeneralContact, PairsEveryBodyAndEachWithItself) {
   ASSERT_EQ(some.contacts.size(), 1u);
   EXPECT_EQ(some.contacts[0].kind, ContactKind::coulomb);
   EXPECT_EQ(some.contacts[0].friction, 0.4);
+  EXPECT_EQ(some.contacts[0].passes, 1);  // two passes are frictionless only
 }
 
 TEST(ScenarioGeneralContact, BadInputIsOneLine) {

@@ -110,6 +110,12 @@ class Elimination {
   /// the facets (end and mid-point) and ξ, n, τ of the constraints, and the
   /// maps.
   void enforce(Eigen::VectorXd& u);
+  /// Each group's slave (a driven constraint's holder) where its own
+  /// constraints put it with every other node at u, one group at a time
+  /// (not a cycle's joint placement, nor a chain's sweeps): what a method
+  /// holding each constraint by its own unknown measures the constraint's
+  /// residual from. The constraints and the maps are left as they were.
+  void place_each(Eigen::VectorXd& u);
   /// Pattern builds of the reduced tangent so far (by all the eliminations
   /// sharing its reduction).
   [[nodiscard]] int pattern_builds() const { return reduction_->builds(); }
@@ -117,6 +123,11 @@ class Elimination {
   /// enforce()): what a method holding the same constraints by other means
   /// (multipliers, contact/lagrange/) reads them from.
   [[nodiscard]] SlaveRows<D> slave_rows() const { return {slave_of_, slaves_, trial_rows_, test_rows_}; }
+  /// The constraints (indices into constraints()) group g holds: one, or
+  /// two (the second −1 otherwise). A constraint in no group is left out
+  /// of the maps at this iterate (a repeat, or a driven slave's no node
+  /// can hold).
+  [[nodiscard]] std::array<int, 2> group_constraints(std::size_t g) const { return groups_[g].constraint; }
 
   /// One constraint's coefficients over `nodes` (master nodes, global):
   /// `master` is D × D·nodes.size() (column a·D + i for node nodes[a],

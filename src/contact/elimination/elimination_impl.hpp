@@ -1120,6 +1120,27 @@ void Elimination<D>::enforce(Eigen::VectorXd& u) {
   build(&u);
 }
 
+template <int D>
+void Elimination<D>::place_each(Eigen::VectorXd& u) {
+  if (!pairs_) throw Error("Elimination::place_each needs the step's geometry (the geometry constructor)");
+  const std::vector<Constraint<D>> kept = *constraints_;
+  const std::vector<int> switches = switches_;
+  Positions<D> x = positions(u), x_mid = 0.5 * (x + positions(u_n_));
+  std::vector<Vec<D>> placed(groups_.size());
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    const int s = groups_[g].slave;
+    const Vec<D> before = x.col(s), before_mid = x_mid.col(s);
+    place(groups_[g], x, x_mid);
+    placed[g] = x.col(s);
+    x.col(s) = before;
+    x_mid.col(s) = before_mid;
+  }
+  for (std::size_t g = 0; g < groups_.size(); ++g)
+    u.template segment<D>(groups_[g].slave * D) = placed[g] - X_.col(groups_[g].slave);
+  *constraints_ = kept;
+  switches_ = switches;
+}
+
 // The nodes placement moves: the slaves, and the facet nodes that hold
 // driven slaves' constraints (before and after a facet switch).
 template <int D>

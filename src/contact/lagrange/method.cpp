@@ -32,12 +32,14 @@ std::vector<Vec<D>> missed_directions(const Mat<D>& slips, const std::vector<Vec
 }
 
 /// One multiplier: its slave's group, its force direction ν (at the slave;
-/// −W_aᵀ ν at the nodes a of its facets) and its motion direction μ.
+/// −W_aᵀ ν at the nodes a of its facets), its motion direction μ, and its
+/// slot among the multipliers (fixed for the solve: the constraint's).
 template <int D>
 struct Multiplier {
   int group = -1;  ///< the slave's row in SlaveRows
   Vec<D> force = Vec<D>::Zero();
   Vec<D> motion = Vec<D>::Zero();
+  int slot = -1;
 };
 
 template <int D>
@@ -45,7 +47,10 @@ class LagrangeCoupling final : public Coupling {
  public:
   LagrangeCoupling(std::unique_ptr<Elimination<D>> elimination, double beta)
       : e_(std::move(elimination)), beta_(beta) {
-    for (const Constraint<D>& c : e_->constraints()) m_ += c.kind == Kind::stick ? D : 1;
+    for (const Constraint<D>& c : e_->constraints()) {
+      first_.push_back(m_);
+      m_ += c.kind == Kind::stick ? D : 1;
+    }
     lambda_ = Eigen::VectorXd::Zero(m_);
   }
   [[nodiscard]] bool plain() const override { return e_->empty(); }
@@ -61,12 +66,18 @@ class LagrangeCoupling final : public Coupling {
     // slaves (and its maps follow that configuration).
     placed_ = u;
     e_->enforce(placed_);
+    // The constraint rows: each slave from where its own facet at u puts
+    // it, as their derivative C (local trial coefficients) says.
+    local_ = u;
+    e_->place_each(local_);
     directions();
     r.resize(n + m_);
     r.head(n) = g;
     const SlaveRows<D> rows = e_->slave_rows();
-    for (int k = 0; k < m_; ++k) {
-      const Multiplier<D>& mk = multipliers_[static_cast<std::size_t>(k)];
+    // A multiplier of a constraint left out at this iterate: λ = 0.
+    for (const int k : idle_) r[n + k] = beta_ * lambda_[k];
+    for (const Multiplier<D>& mk : multipliers_) {
+      const int k = mk.slot;
       const int s = rows.slaves[static_cast<std::size_t>(mk.group)];
       const typename Elimination<D>::Coefficients& w = e_->local_test(static_cast<std::size_t>(mk.group));
       const Vec<D> f = lambda_[k] * mk.force;
@@ -77,7 +88,7 @@ class LagrangeCoupling final : public Coupling {
         r.template segment<D>(w.nodes[a] * D) += fa;
         magnitude.template segment<D>(w.nodes[a] * D) += fa.cwiseAbs();
       }
-      r[n + k] = beta_ * mk.motion.dot(u.template segment<D>(s * D) - placed_.template segment<D>(s * D));
+      r[n + k] = beta_ * mk.motion.dot(u.template segment<D>(s * D) - local_.template segment<D>(s * D));
     }
   }
 
@@ -88,8 +99,9 @@ class LagrangeCoupling final : public Coupling {
     for (int col = 0; col < K.outerSize(); ++col)
       for (SparseMatrix::InnerIterator it(K, col); it; ++it) t.emplace_back(it.row(), col, it.value());
     const SlaveRows<D> rows = e_->slave_rows();
-    for (int k = 0; k < m_; ++k) {
-      const Multiplier<D>& mk = multipliers_[static_cast<std::size_t>(k)];
+    for (const int k : idle_) t.emplace_back(static_cast<int>(n) + k, static_cast<int>(n) + k, beta_);
+    for (const Multiplier<D>& mk : multipliers_) {
+      const int k = mk.slot;
       const int s = rows.slaves[static_cast<std::size_t>(mk.group)];
       const auto lam = static_cast<int>(n) + k;
       for (int i = 0; i < D; ++i) {
@@ -146,15 +158,17 @@ class LagrangeCoupling final : public Coupling {
   void directions() {
     const SlaveRows<D> rows = e_->slave_rows();
     multipliers_.clear();
+    std::vector<char> used(static_cast<std::size_t>(m_), 0);
     for (std::size_t c = 0; c < rows.slaves.size(); ++c) {
-      const int s = rows.slaves[c];
       std::vector<Vec<D>> seeds;
-      for (const Constraint<D>& k : e_->constraints()) {
-        if (k.slave != s) continue;
+      std::vector<int> slots;
+      for (const int j : e_->group_constraints(c)) {
+        if (j < 0) continue;
+        const Constraint<D>& k = e_->constraints()[static_cast<std::size_t>(j)];
         if (k.kind == Kind::stick)
-          for (int i = 0; i < D; ++i) seeds.push_back(Vec<D>::Unit(i));
+          for (int i = 0; i < D; ++i) seeds.push_back(Vec<D>::Unit(i)), slots.push_back(first_[j] + i);
         else
-          seeds.push_back(k.normal);
+          seeds.push_back(k.normal), slots.push_back(first_[j]);
       }
       const auto slips = [](const typename Elimination<D>::Coefficients& l) {
         Mat<D> block = Mat<D>::Zero();
@@ -165,11 +179,14 @@ class LagrangeCoupling final : public Coupling {
       const std::vector<Vec<D>> motion = missed_directions<D>(slips(e_->local_trial(c)), seeds);
       if (force.size() != seeds.size() || motion.size() != seeds.size())
         throw SolverError("a contact constraint's multiplier direction is degenerate (its slips span its normal)");
-      for (std::size_t j = 0; j < seeds.size(); ++j)
-        multipliers_.push_back({static_cast<int>(c), force[j], motion[j]});
+      for (std::size_t j = 0; j < seeds.size(); ++j) {
+        multipliers_.push_back({static_cast<int>(c), force[j], motion[j], slots[j]});
+        used[static_cast<std::size_t>(slots[j])] = 1;
+      }
     }
-    if (static_cast<int>(multipliers_.size()) != m_)
-      throw SolverError("the contact multipliers do not match the constraints");
+    idle_.clear();
+    for (int k = 0; k < m_; ++k)
+      if (!used[static_cast<std::size_t>(k)]) idle_.push_back(k);
   }
 
   /// B's own variation, ∂(Bλ)/∂u: per slave, the derivative of its force
@@ -186,14 +203,13 @@ class LagrangeCoupling final : public Coupling {
     const SlaveRows<D> rows = e_->slave_rows();
     const std::size_t groups = rows.slaves.size();
     std::vector<Vec<D>> force(groups, Vec<D>::Zero()), motion(groups, Vec<D>::Zero());
-    for (int k = 0; k < m_; ++k) {
-      const Multiplier<D>& mk = multipliers_[static_cast<std::size_t>(k)];
-      force[static_cast<std::size_t>(mk.group)] += lambda_[k] * mk.force;
+    for (const Multiplier<D>& mk : multipliers_) {
+      force[static_cast<std::size_t>(mk.group)] += lambda_[mk.slot] * mk.force;
       motion[static_cast<std::size_t>(mk.group)] = mk.motion;
     }
     std::vector<char> stick(groups, 0);
-    for (const Constraint<D>& k : e_->constraints())
-      stick[static_cast<std::size_t>(rows.slave_of[k.slave])] = k.kind == Kind::stick;
+    for (std::size_t c = 0; c < groups; ++c)
+      stick[c] = e_->constraints()[static_cast<std::size_t>(e_->group_constraints(c)[0])].kind == Kind::stick;
     constexpr int N = D * (D + 1);
     for (std::size_t c = 0; c < groups; ++c) {
       // Every entry is kept, zero or not, so that the pattern stays while the constraints do.
@@ -221,8 +237,10 @@ class LagrangeCoupling final : public Coupling {
   std::unique_ptr<Elimination<D>> e_;
   double beta_;
   int m_ = 0;
+  std::vector<int> first_;  ///< per constraint: its first multiplier's slot
+  std::vector<int> idle_;   ///< slots of the constraints left out at the last enforce()
   Eigen::VectorXd lambda_, saved_lambda_;
-  Eigen::VectorXd placed_;
+  Eigen::VectorXd placed_, local_;
   std::vector<Multiplier<D>> multipliers_;
   std::optional<typename Elimination<D>::Saved> saved_;
 };
