@@ -95,5 +95,17 @@ TEST(DrivenTwoPass, ReducedTangentMatchesDifferences) {
   test::expect_second_order(test::reduced_tangent_order(run), "2D, a driven punch in two passes");
 }
 
+// The multipliers holding the corners: their Newton system's tangent,
+// B's variation included for a constraint held by a node of its facet.
+TEST(DrivenTwoPass, MultipliersSystemTangentMatchesDifferences) {
+  std::string text = punch(0.02, 2, 0.05);
+  text.replace(text.find("passes = 2"), 10, "passes = 2\nmethod = \"lagrange\"");
+  ContactRun<2> run(text);
+  while (held_by_the_plate(run) == 0 && run.state.step < 120) run.step();
+  ASSERT_GT(held_by_the_plate(run), 0) << "no corner constraint";
+  for (int n = 0; n < 20; ++n) run.step();
+  test::expect_second_order(test::system_tangent_order(run), "2D, a driven punch in two passes, multipliers");
+}
+
 }  // namespace
 }  // namespace conserve::time

@@ -153,7 +153,9 @@ class Elimination {
   /// held along the axes, W_a alone varies). D(D+1) × D(D+1), node blocks
   /// in the order slave, facet nodes (k.master), outputs by inputs,
   /// by automatic differentiation of the zero-work kernels. Zero for a
-  /// group of two constraints (not differentiated).
+  /// group of two constraints (not differentiated). A driven slave's
+  /// constraint (ContactPair::slave_driven): its holder in the slave's
+  /// place, then the facet's other nodes as in local_trial().
   [[nodiscard]] Eigen::MatrixXd force_variation(std::size_t g, const Vec<D>& f) const;
 
  private:

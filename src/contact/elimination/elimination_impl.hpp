@@ -735,8 +735,32 @@ Eigen::MatrixXd Elimination<D>::force_variation(std::size_t c, const Vec<D>& f) 
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(N, N);
   if (groups_[c].count == 2) return G;
   const Constraint<D>& k = (*constraints_)[groups_[c].constraint[0]];
-  if (k.eliminated >= 0) return G;  // a driven slave's (not differentiated)
   const Kernel in = kernel_input(k, u_);
+  if (k.eliminated >= 0) {
+    // Held by facet node b: the force pair is κ c(u)/|c_b(u)| at every
+    // node (f at b, −W_xᵀ f = κ c_x/|c_b| at the others), κ = f·ĉ_b held;
+    // nodes in the group's order: b, the slave, the facet's other nodes.
+    const int b = facet_index(k, k.eliminated);
+    const auto t = zero_work::frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx), !k.push,
+                                                          k.friction, k.slip_scale);
+    Eigen::Matrix<AD<N>, D, D + 1> cf;
+    Eigen::Matrix<AD<N>, D, D - 1> slip;
+    driven_forces<D, AD<N>>(t, b, cf, slip);
+    const AD<N> size = sqrt(cf.col(1 + b).squaredNorm());
+    Vec<D> direction;
+    for (int i = 0; i < D; ++i) direction(i) = cf(i, 1 + b).value() / size.value();
+    const double kappa = f.dot(direction);
+    std::array<int, D + 1> order{};  // group order → kernel column
+    order[0] = 1 + b;
+    for (int a = 0, next = 1; a <= D; ++a)
+      if (a != 1 + b) order[next++] = a;
+    for (int a = 0; a <= D; ++a)
+      for (int i = 0; i < D; ++i) {
+        const Eigen::Matrix<double, N, 1> d = (cf(i, order[a]) * (kappa / size)).derivatives();
+        for (int e = 0; e <= D; ++e) G.block(a * D + i, e * D, 1, D) = d.segment(order[e] * D, D).transpose();
+      }
+    return G;
+  }
   if (k.kind == Kind::stick) {
     constexpr int M = D * D;
     const zero_work::Facet<D, double> xm = in.x.template rightCols<D>(), dxm = in.dx.template rightCols<D>();

@@ -194,11 +194,12 @@ class LagrangeCoupling final : public Coupling {
   /// configuration the maps belong to) with its inputs taken to u through
   /// the placement: the slave keeps its motion along its slips and follows
   /// its facet's along μ (frictionless: Π = 1 − μμᵀ on its own motion,
-  /// μμᵀ T_a on node a's), or entirely (stick: 0 and T_a). Left out: a
-  /// slave holding two constraints, the placement of a facet node that is
-  /// itself a slave (a chain), and μ's own variation (its term vanishes
-  /// with c): Newton converges quadratically on single constraints, with
-  /// friction too.
+  /// μμᵀ T_a on node a's), or entirely (stick: 0 and T_a); a facet node
+  /// that is itself a slave (a chain) the same way, one link deep. Left
+  /// out: a slave holding two constraints, cycles, the further links of a
+  /// chain, and μ's own variation (its term vanishes with c): Newton
+  /// converges quadratically on single constraints, with friction too, and
+  /// on a driven slave's held by its facet's node.
   void add_force_variation(std::vector<Eigen::Triplet<double>>& t) const {
     const SlaveRows<D> rows = e_->slave_rows();
     const std::size_t groups = rows.slaves.size();
@@ -218,18 +219,35 @@ class LagrangeCoupling final : public Coupling {
       const Mat<D> follow = stick[c] ? Mat<D>::Identity() : Mat<D>(motion[c] * motion[c].transpose());
       const int s = rows.slaves[c];
       auto node = [&](int a) { return a == 0 ? s : tr.nodes[static_cast<std::size_t>(a - 1)]; };
-      for (int b = 0; b <= D; ++b) {
-        // Column block b of G taken to u: the inputs' dependence on node b's displacement.
-        Eigen::Matrix<double, N, D> column;
-        if (b == 0)
-          column = G.middleCols(0, D) * (Mat<D>::Identity() - follow);
-        else
-          column = G.middleCols(b * D, D) +
-                   G.middleCols(0, D) * follow * tr.master.block(0, static_cast<Eigen::Index>(b - 1) * D, D, D);
+      auto add = [&](int b_node, const Eigen::Matrix<double, N, D>& column) {
         for (int a = 0; a <= D; ++a)
           for (int i = 0; i < D; ++i)
-            for (int j = 0; j < D; ++j)
-              t.emplace_back(node(a) * D + i, node(b) * D + j, column(a * D + i, j));
+            for (int j = 0; j < D; ++j) t.emplace_back(node(a) * D + i, b_node * D + j, column(a * D + i, j));
+      };
+      for (int b = 0; b <= D; ++b) {
+        // Column block b of G taken to u: the inputs' dependence on node b's displacement.
+        if (b == 0) {
+          add(s, G.middleCols(0, D) * (Mat<D>::Identity() - follow));
+          continue;
+        }
+        const Eigen::Matrix<double, N, D> column =
+            G.middleCols(b * D, D) +
+            G.middleCols(0, D) * follow * tr.master.block(0, static_cast<Eigen::Index>(b - 1) * D, D, D);
+        const int e = node(b), d = rows.slave_of[static_cast<std::size_t>(e)];
+        if (d < 0 || static_cast<std::size_t>(d) == c) {
+          add(e, column);
+          continue;
+        }
+        // A facet node that is itself a slave (a chain): placed too, it
+        // keeps its own motion off its follow directions and takes its
+        // facet's nodes' along them, one link deep.
+        const Mat<D> follow_d = stick[static_cast<std::size_t>(d)]
+                                    ? Mat<D>::Identity()
+                                    : Mat<D>(motion[static_cast<std::size_t>(d)] * motion[static_cast<std::size_t>(d)].transpose());
+        add(e, column * (Mat<D>::Identity() - follow_d));
+        const typename Elimination<D>::Coefficients& tr_d = e_->local_trial(static_cast<std::size_t>(d));
+        for (std::size_t x = 0; x < tr_d.nodes.size(); ++x)
+          add(tr_d.nodes[x], column * follow_d * tr_d.master.block(0, static_cast<Eigen::Index>(x) * D, D, D));
       }
     }
   }

@@ -18,7 +18,7 @@
 /// T, B's own variation by automatic differentiation of the zero-work
 /// kernels (Elimination::force_variation; how a Coulomb slave's force
 /// direction turns with its slip is in it), left out only for a slave
-/// holding two constraints and along chains. At a
+/// holding two constraints, in cycles and beyond one link of a chain. At a
 /// solution Wᵀ g = 0 and c = 0, elimination's equations: the trajectories
 /// agree to the solvers' tolerance. The number of equations is the free
 /// unknowns plus one per frictionless and D per stick constraint.
