@@ -128,6 +128,11 @@ struct Constraint {
   /// the master surface's border, through a face that is no master, can be
   /// any depth behind it, and no step is short enough to push it out.
   bool hold = false;
+  /// Two passes: left out of the maps for the rest of the solve because
+  /// it repeats another constraint (Elimination::suspend_repeats), so that
+  /// Newton's iterates do not take it in and out; the active set drops it
+  /// once the solve ends (ActiveSet::update). Not kept in checkpoints.
+  bool repeat = false;
   /// Coulomb friction (docs/theory.md, "Coulomb friction"): μ while the
   /// slave slips (a frictionless constraint of a Coulomb pair: its force
   /// has a friction part μ f_N against its slip,

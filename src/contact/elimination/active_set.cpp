@@ -17,7 +17,8 @@ ActiveSet<D>::ActiveSet(const model::Model<D>& model, std::vector<ContactPair<D>
       slot_(static_cast<std::size_t>(model.num_nodes()), -1),
       held_(static_cast<std::size_t>(model.num_nodes()), 0),
       switched_(static_cast<std::size_t>(model.num_nodes()), 0),
-      given_up_(static_cast<std::size_t>(model.num_nodes()), 0) {
+      given_up_(static_cast<std::size_t>(model.num_nodes()), 0),
+      repeated_(static_cast<std::size_t>(model.num_nodes()), 0) {
   for (const ContactPair<D>& pr : collisions_.pairs()) coulomb_ = coulomb_ || (pr.friction && *pr.friction > 0.0);
 }
 
@@ -65,6 +66,7 @@ void ActiveSet<D>::begin_step(std::int64_t step, double time, double dt, const E
   std::fill(held_.begin(), held_.end(), 0);
   std::fill(switched_.begin(), switched_.end(), 0);
   std::fill(given_up_.begin(), given_up_.end(), 0);
+  std::fill(repeated_.begin(), repeated_.end(), 0);
   old_given_up_ = 0;
   step_ = step;
   double sum = 0.0;
@@ -322,7 +324,9 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
   for (std::size_t k = 0; k < active_.size(); ++k) by_slave.emplace(active_[k].slave, std::make_pair(false, k));
   for (std::size_t k = 0; k < active_.size(); ++k) {
     const bool left_out = pair(active_[k].pair).slave_driven() && active_[k].eliminated < 0;
-    if (!left_out && (!pair(active_[k].pair).yields() || !repeated(active_[k], true))) continue;
+    if (!left_out && !active_[k].repeat && (!pair(active_[k].pair).yields() || !repeated(active_[k], true)))
+      continue;
+    if (!left_out) repeated_[active_[k].slave] = 1;
     active_.erase(active_.begin() + static_cast<std::ptrdiff_t>(k));
     normal_forces_.erase(normal_forces_.begin() + static_cast<std::ptrdiff_t>(k));
     ++counts.repeats;
@@ -336,7 +340,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
         deepest = std::max(deepest, -match.projection.gap);
         if (index_.active_in(p, s)) active_gap[{p, s}] = match.projection.gap;
         if (auto c = activation(p, s, match, x_n, x_np1)) {
-          if (repeated(*c, false) || unheld(*c)) {
+          if (repeated(*c, false) || unheld(*c) || (repeated_[c->slave] && pair(c->pair).yields())) {
             ++counts.repeats;
             return;
           }

@@ -226,6 +226,10 @@ class ActiveSet {
   /// 2: in it (hold_pushes). Re-activated in the step, it is held, not
   /// pushed again.
   std::vector<char> given_up_;
+  /// Per node: a constraint of it that gives way (ContactPair::yields) was
+  /// dropped as a repeat in this step; none of its is activated again in
+  /// the step, so that the solves do not take it in and out.
+  std::vector<char> repeated_;
   /// Constraints from before this step whose push-out was given up in it
   /// (hold_pushes); with the step's new held slaves, HeldCounts::pushes_given_up.
   int old_given_up_ = 0;

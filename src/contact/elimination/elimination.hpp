@@ -47,6 +47,9 @@ namespace conserve::contact {
 struct EliminationComponent {
   std::vector<int> members;
   Eigen::MatrixXd coupling;
+  /// A cycle's smallest pivot of (I − C_KK) against its largest (1 for a
+  /// lone group): how near the cycle's slaves are to repeating each other.
+  double pivot = 1.0;
 };
 
 template <int D>
@@ -267,10 +270,20 @@ class Elimination {
   /// plane (â·n below it: more than 60° from the normal) at an iterate
   /// hold the rate condition (48) for the rest of the step (Constraint::rate).
   static constexpr double kRateCosine = 0.5;
+  /// A cycle of the test maps whose pivot (EliminationComponent::pivot) is
+  /// below kRatePivot and below kRatePivotRatio of the trial map's takes
+  /// (48) too: its slaves nearly repeat each other, and the zero-work
+  /// directions, leaning off the normals, make (I − C_KK) nearer singular
+  /// than the trial map's; under (48) the two are alike (the 3D pour of
+  /// spheres failed Newton at any Δt without it). A cycle whose trial map
+  /// is as near singular repeats itself (repeats(), kRepeatPivot).
+  static constexpr double kRatePivot = 1e-2;
+  static constexpr double kRatePivotRatio = 0.25;
   /// Switches to (48) the single frictionless constraints whose zero-work
   /// direction at the last build was degenerate (â·n < kRateCosine).
   bool switch_to_rate();
   std::vector<double> cosine_;  ///< per group: â·n at the last build (1 if not applicable)
+  std::vector<double> trial_pivot_;  ///< per group: its trial map's cycle's pivot at the last build (1 if none)
   std::vector<int> switches_;  ///< facet switches per constraint in this solve
   /// Per constraint: left out of the maps at this iterate (make_groups).
   std::vector<char> suspended_;

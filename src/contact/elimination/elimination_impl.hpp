@@ -160,6 +160,8 @@ class RowBuilder {
       store(k.members[i], out);
     }
     k.coupling = std::move(coupling);
+    const Eigen::VectorXd u = lu.matrixLU().diagonal().cwiseAbs();
+    k.pivot = u.minCoeff() / u.maxCoeff();
   }
 
   void store(int c, const std::map<int, Mat<D>>& out) {
@@ -332,9 +334,10 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
 // facets (a crease pair) (the active set's rules, ActiveSet::can_hold,
 // ActiveSet::crease); anything else is refused. A second pass's
 // constraint that repeats another (its slave and that one's on each
-// other's nodes, repeats()) is left out of the maps at this iterate: the
-// two say one thing, and the first pass's holds it (the active set
-// releases it once the step is solved, ActiveSet::update).
+// other's nodes, repeats()) is left out of the maps from this iterate to
+// the solve's end (Constraint::repeat): the two say one thing, and the
+// first pass's holds it (the active set releases it once the solve ends,
+// ActiveSet::update).
 template <int D>
 void Elimination<D>::suspend_repeats(const Eigen::VectorXd* u) {
   suspended_.assign(constraints_->size(), 0);
@@ -344,14 +347,18 @@ void Elimination<D>::suspend_repeats(const Eigen::VectorXd* u) {
     return;  // one pass: nothing may give way
   const Positions<D> x = positions(*u);
   std::unordered_multimap<int, std::size_t> by_slave;
-  for (std::size_t c = 0; c < constraints_->size(); ++c) by_slave.emplace((*constraints_)[c].slave, c);
   for (std::size_t c = 0; c < constraints_->size(); ++c) {
-    const Constraint<D>& k = (*constraints_)[c];
-    if (!(*pairs_)[k.pair].yields()) continue;
+    by_slave.emplace((*constraints_)[c].slave, c);
+    suspended_[c] = (*constraints_)[c].repeat;
+  }
+  for (std::size_t c = 0; c < constraints_->size(); ++c) {
+    Constraint<D>& k = (*constraints_)[c];
+    if (!(*pairs_)[k.pair].yields() || suspended_[c]) continue;
     for (const int m : k.master)
       for (auto [it, end] = by_slave.equal_range(m); it != end; ++it) {
         const Constraint<D>& other = (*constraints_)[it->second];
-        if (!suspended_[it->second] && gives_way(k, other, *pairs_) && repeats(k, other, x)) suspended_[c] = 1;
+        if (!suspended_[it->second] && gives_way(k, other, *pairs_) && repeats(k, other, x))
+          suspended_[c] = 1, k.repeat = true;
       }
   }
 }
@@ -599,6 +606,9 @@ void Elimination<D>::compose(const Eigen::VectorXd* u) {
     test_rows_[g] = test_builder.rows(static_cast<int>(g));
   }
   components_ = test_builder.components();
+  trial_pivot_.assign(count, 1.0);
+  for (const EliminationComponent& k : trial_builder.components())
+    for (const int g : k.members) trial_pivot_[static_cast<std::size_t>(g)] = k.pivot;
 }
 
 template <int D>
@@ -1086,8 +1096,13 @@ void Elimination<D>::place_cycle(const std::vector<int>& members, Positions<D>& 
   for (int i = 0; i < m; ++i) member[slaves_[members[i]]] = i;
   Eigen::VectorXd r(D * m);
   // The trial placements may switch facets back and forth; the solve's
-  // cap on switches (kMaxSwitches) counts the final placement's only.
+  // cap on switches (kMaxSwitches) counts one for a member whose facet
+  // differs at the end.
   const std::vector<int> switches = switches_;
+  std::map<int, int> facet_before;
+  for (const int g : members)
+    for (int j = 0; j < groups_[g].count; ++j)
+      facet_before[groups_[g].constraint[j]] = (*constraints_)[groups_[g].constraint[j]].facet;
   double previous = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < kCycleIterations; ++iteration) {
     double scale = 0.0;
@@ -1121,6 +1136,8 @@ void Elimination<D>::place_cycle(const std::vector<int>& members, Positions<D>& 
   }
   switches_ = switches;
   for (const int c : members) place(groups_[c], x, x_mid);
+  for (const auto& [c, facet] : facet_before)
+    if ((*constraints_)[c].facet != facet) switches_[c] = std::max(switches_[c], switches[c] + 1);
 }
 
 template <int D>
@@ -1186,11 +1203,15 @@ void Elimination<D>::write_placed(const Positions<D>& x, Eigen::VectorXd& u) con
 // in the paper (docs/theory.md, "When the held gap gives way to (48)").
 template <int D>
 bool Elimination<D>::switch_to_rate() {
+  std::vector<char> near_repeat(groups_.size(), 0);
+  for (const EliminationComponent& k : components_)
+    if (k.pivot < kRatePivot && k.pivot < kRatePivotRatio * trial_pivot_[static_cast<std::size_t>(k.members[0])])
+      for (const int g : k.members) near_repeat[static_cast<std::size_t>(g)] = 1;
   bool any = false;
   for (std::size_t g = 0; g < groups_.size(); ++g) {
     if (groups_[g].count != 1) continue;
     Constraint<D>& k = (*constraints_)[groups_[g].constraint[0]];
-    if (k.kind == Kind::frictionless && !k.rate && cosine_[g] < kRateCosine) k.rate = any = true;
+    if (k.kind == Kind::frictionless && !k.rate && (cosine_[g] < kRateCosine || near_repeat[g])) k.rate = any = true;
   }
   return any;
 }
@@ -1210,7 +1231,9 @@ void Elimination<D>::restore(const Saved& saved) {
   if (saved.constraints.size() != constraints_->size())
     throw Error("Elimination::restore: the saved constraints are another active set");
   std::vector<Constraint<D>>* constraints = constraints_;
+  std::vector<int> switches = std::move(switches_);  // the solve's cap counts every switch, reverted or not
   *this = saved.maps;
+  switches_ = std::move(switches);
   constraints_ = constraints;
   *constraints_ = saved.constraints;
 }
