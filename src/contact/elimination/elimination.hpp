@@ -274,13 +274,13 @@ class Elimination {
   /// below kRatePivot and below kRatePivotRatio of the trial map's takes
   /// (48) too: its slaves nearly repeat each other, and the zero-work
   /// directions, leaning off the normals, make (I − C_KK) nearer singular
-  /// than the trial map's; under (48) the two are alike (the 3D pour of
-  /// spheres failed Newton at any Δt without it). A cycle whose trial map
-  /// is as near singular repeats itself (repeats(), kRepeatPivot).
+  /// than the trial map's; under (48) the two are alike. A cycle whose
+  /// trial map is as near singular repeats itself (repeats(), kRepeatPivot).
   static constexpr double kRatePivot = 1e-2;
   static constexpr double kRatePivotRatio = 0.25;
   /// Switches to (48) the single frictionless constraints whose zero-work
-  /// direction at the last build was degenerate (â·n < kRateCosine).
+  /// direction at the last build was degenerate (â·n < kRateCosine) or
+  /// whose cycle nearly repeats itself in the test maps only (kRatePivot).
   bool switch_to_rate();
   std::vector<double> cosine_;  ///< per group: â·n at the last build (1 if not applicable)
   std::vector<double> trial_pivot_;  ///< per group: its trial map's cycle's pivot at the last build (1 if none)
