@@ -179,6 +179,17 @@ std::vector<double> facet_sizes(const ContactSurface& surface, const Eigen::Matr
   return size;
 }
 
+template <int D>
+double median_facet_size(const ContactSurface& surface, const Eigen::Matrix<double, D, Eigen::Dynamic>& x) {
+  std::vector<double> sizes = facet_sizes<D>(surface, x);
+  if (sizes.empty()) return 0.0;
+  const auto middle = sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2);
+  std::nth_element(sizes.begin(), middle, sizes.end());
+  return *middle;
+}
+
+template double median_facet_size<2>(const ContactSurface&, const Eigen::Matrix<double, 2, Eigen::Dynamic>&);
+template double median_facet_size<3>(const ContactSurface&, const Eigen::Matrix<double, 3, Eigen::Dynamic>&);
 template std::vector<double> facet_sizes<2>(const ContactSurface&, const Eigen::Matrix<double, 2, Eigen::Dynamic>&);
 template std::vector<double> facet_sizes<3>(const ContactSurface&, const Eigen::Matrix<double, 3, Eigen::Dynamic>&);
 template ContactSurface make_surface<2>(const model::Model<2>&, int, const std::string&);

@@ -43,6 +43,11 @@ ContactSurface make_surface(const model::Model<D>& model, int body, const std::s
 template <int D>
 std::vector<double> facet_sizes(const ContactSurface& surface, const Eigen::Matrix<double, D, Eigen::Dynamic>& x);
 
+/// The median of facet_sizes [m] (0 for a surface without facets): which
+/// of two surfaces is the finer.
+template <int D>
+double median_facet_size(const ContactSurface& surface, const Eigen::Matrix<double, D, Eigen::Dynamic>& x);
+
 /// Adjacency from facets alone (used by make_surface; exposed for tests and
 /// for surfaces that are not part of a model): sets `nodes`, `node_facets`
 /// and `facet_neighbours` from `facets` (dim rows). A side shared by more

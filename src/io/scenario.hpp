@@ -118,6 +118,9 @@ struct ContactSpec {
   /// 1: the slave's nodes are held out of the master's facets; 2: also the
   /// master's nodes out of the slave's facets (both deformable).
   int passes = 1;
+  /// [general_contact]'s pairs of two deformable bodies: the surfaces are
+  /// swapped when the slave's is the coarser (simulation::make_contact_pairs).
+  bool finer_slave = false;
   std::string method = "elimination";  ///< constraint method (contact/method.hpp); the same for every pair
   double penalty = 0.0;                ///< penalty stiffness ε [Pa/m]; 0: automatic
   PenaltyForce penalty_force = PenaltyForce::conserving;

@@ -143,9 +143,11 @@ std::vector<ContactSpec> parse_contacts(const Section& top, const std::vector<Bo
 }
 
 // Every two bodies not excluded, and each deformable one with itself:
-// deformable pairs in two passes (the earlier body's nodes as the first
-// pass's slaves; one with stick or friction), a deformable body's nodes against a rigid one's facets,
-// rigid pairs none; whole boundaries.
+// deformable pairs in `passes` (one with stick or friction; the earlier
+// body's nodes the first pass's slaves, swapped for the finer surface's by
+// make_contact_pairs), a deformable body's nodes against a rigid one's
+// facets, rigid pairs none; whole boundaries. A [[general_contact.pair]]
+// sets one pair's kind, passes or both.
 std::vector<ContactSpec> parse_general_contact(const Section& top, const std::vector<BodySpec>& bodies,
                                                bool with_pairs) {
   if (!top.has("general_contact")) return {};
@@ -162,8 +164,9 @@ std::vector<ContactSpec> parse_general_contact(const Section& top, const std::ve
   };
   struct Override {
     std::vector<std::string> bodies;
-    ContactKind kind;
+    std::optional<ContactKind> kind;
     double friction;
+    std::optional<int> passes;
   };
   std::vector<Override> overrides;
   for (const Section& pair : g.table_array("pair")) {
@@ -176,24 +179,53 @@ std::vector<ContactSpec> parse_general_contact(const Section& top, const std::ve
       if (excluded(name))
         pair.fail("bodies", fmt::format("'{}' is excluded", name), "bodies that [general_contact] pairs");
     }
-    if (names.size() == 1) names.push_back(names.front());
+    if (!pair.has("kind") && !pair.has("passes"))
+      pair.fail_table("sets neither kind nor passes", "kind = \"…\" or passes = 1 or 2 for the pair");
+    const bool self = names.size() == 1;
+    if (self) names.push_back(names.front());
     std::sort(names.begin(), names.end());
-    overrides.push_back({names, kind_of(pair.string("kind")), friction_of(pair)});
+    Override o{names, std::nullopt, 0.0, std::nullopt};
+    if (pair.has("kind")) {
+      o.kind = kind_of(pair.string("kind"));
+      o.friction = friction_of(pair);
+    } else if (pair.has("friction")) {
+      pair.fail("friction", "is given without the pair's kind", "kind = \"coulomb\" with friction = μ");
+    }
+    if (pair.has("passes")) {
+      o.passes = pair.integer("passes");
+      const bool rigid = find_body(bodies, names[0])->rigid || find_body(bodies, names[1])->rigid;
+      const ContactKind kind = o.kind.value_or(kind_of(g.string("kind")));
+      if (*o.passes == 2 && self)
+        pair.fail("passes", fmt::format("is 2 for '{}' with itself: self-contact holds every node already", names[0]),
+                  "passes = 1, or two bodies");
+      if (*o.passes == 2 && rigid)
+        pair.fail("passes", "is 2 for a pair with a rigid body: general contact holds a rigid body's pairs in one pass",
+                  "passes = 1, or two deformable bodies");
+      if (*o.passes == 2 && kind != ContactKind::frictionless)
+        pair.fail("passes", "is 2 with a kind other than frictionless: two passes hold frictionless constraints only",
+                  "passes = 2 with kind = \"frictionless\", or passes = 1");
+    }
+    overrides.push_back(std::move(o));
   }
   ContactSpec base;
   base.kind = kind_of(g.string("kind"));
   base.friction = friction_of(g);
   base.method = g.string("method");
+  const int deformable_passes = g.integer("passes");
   std::vector<ContactSpec> out;
   auto add = [&](const BodySpec& slave, const BodySpec& master, int passes) {
     ContactSpec c = base;
     c.slave_body = slave.name;
     c.master_body = master.name;
     c.passes = passes;
+    c.finer_slave = !slave.rigid && !master.rigid && slave.name != master.name;
     std::vector<std::string> key{slave.name, master.name};
     std::sort(key.begin(), key.end());
-    for (const Override& o : overrides)
-      if (o.bodies == key) c.kind = o.kind, c.friction = o.friction;
+    for (const Override& o : overrides) {
+      if (o.bodies != key) continue;
+      if (o.kind) c.kind = *o.kind, c.friction = o.friction;
+      if (o.passes) c.passes = *o.passes;
+    }
     if (c.kind != ContactKind::frictionless) c.passes = 1;  // two passes hold frictionless constraints only
     out.push_back(std::move(c));
   };
@@ -206,7 +238,7 @@ std::vector<ContactSpec> parse_general_contact(const Section& top, const std::ve
       else if (bodies[j].rigid)
         add(bodies[i], bodies[j], 1);
       else
-        add(bodies[i], bodies[j], 2);
+        add(bodies[i], bodies[j], deformable_passes);
     }
   }
   if (g.boolean("self"))

@@ -541,7 +541,7 @@ SectionSpec contact_section() {
 
 SectionSpec general_contact_section() {
   return {.name = "general_contact",
-          .doc = "Contact between all bodies: its presence pairs every two bodies (both deformable: two passes if "
+          .doc = "Contact between all bodies: its presence pairs every two bodies (both deformable: `passes` if "
                  "frictionless, else one; "
                  "one rigid: the deformable one's nodes against the rigid one's facets; two rigid: none) and each "
                  "deformable body with itself (self-contact), their whole boundaries, instead of [[contact]] "
@@ -565,6 +565,14 @@ SectionSpec general_contact_section() {
               {.name = "exclude",
                .type = KeyType::names,
                .doc = "bodies left out of contact"},
+              {.name = "passes",
+               .type = KeyType::integer,
+               .default_value = "2",
+               .min = at_least(1),
+               .max = at_most(2),
+               .doc = "passes of the frictionless pairs of two deformable bodies, as [[contact]] `passes`: 2 holds "
+                      "both sides' nodes; 1 the finer surface's alone (the earlier body's if alike), for flat faces "
+                      "of unlike meshes pressed on each other, which two passes over-constrain (docs/theory.md)"},
               {.name = "self",
                .type = KeyType::boolean,
                .default_value = "true",
@@ -577,8 +585,8 @@ SectionSpec general_contact_section() {
 
 SectionSpec general_contact_pair_section() {
   return {.name = "general_contact.pair",
-          .doc = "The kind (and friction) of one pair of bodies under [general_contact], or of a body with "
-                 "itself.",
+          .doc = "The kind (and friction) or the passes of one pair of bodies under [general_contact], or of a "
+                 "body with itself.",
           .keys = {
               {.name = "bodies",
                .type = KeyType::names,
@@ -586,14 +594,19 @@ SectionSpec general_contact_pair_section() {
                .doc = "the two bodies (or one, for its self-contact)"},
               {.name = "kind",
                .type = KeyType::choice,
-               .required = true,
                .choices = {"frictionless", "stick", "coulomb"},
-               .doc = "the pair's kind"},
+               .doc = "the pair's kind (default: [general_contact] `kind`); a pair sets kind, passes or both"},
               {.name = "friction",
                .type = KeyType::number,
                .default_value = "0",
                .min = at_least(0),
                .doc = "kind = \"coulomb\": μ"},
+              {.name = "passes",
+               .type = KeyType::integer,
+               .min = at_least(1),
+               .max = at_most(2),
+               .doc = "the pair's passes (default: [general_contact] `passes`); 2 only for two deformable bodies, "
+                      "frictionless"},
           }};
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "simulation/plausibility.hpp"
 
 namespace conserve::simulation {
 namespace {
@@ -39,6 +40,11 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     };
     pair.slave = surface("slave", spec.slave_body, spec.slave_group);
     pair.master = surface("master", spec.master_body, spec.master_group);
+    // General contact: the finer surface is the slave (the first pass's),
+    // where the check would warn of a coarse slave.
+    if (spec.finer_slave &&
+        contact::median_facet_size<D>(pair.slave, model.X) > kCoarseSlave * contact::median_facet_size<D>(pair.master, model.X))
+      std::swap(pair.slave, pair.master);
     pair.kind = spec.kind == io::ContactKind::stick ? contact::Kind::stick : contact::Kind::frictionless;
     if (spec.kind == io::ContactKind::coulomb) {
       // Slaves of a Coulomb pair are activated sticking (a trial the active

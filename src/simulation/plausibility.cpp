@@ -119,16 +119,6 @@ void check_densities(const io::Scenario& scenario, const model::Model<D>& model,
   }
 }
 
-/// The median of a surface's facets' longest edges in the reference
-/// configuration [m].
-template <int D>
-double median_edge(const contact::ContactSurface& surface, const model::Model<D>& model) {
-  std::vector<double> edges = contact::facet_sizes<D>(surface, model.X);
-  if (edges.empty()) return 0.0;
-  std::nth_element(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(edges.size() / 2), edges.end());
-  return edges[edges.size() / 2];
-}
-
 /// Whether all of a surface's nodes lie in one plane (up to round-off of
 /// its size) in the reference configuration. The nodes of a flat master
 /// cannot enter the facets of a slave held in front of it, however coarse.
@@ -150,7 +140,8 @@ template <int D>
 void check_slave_sizes(const io::Scenario& scenario, const model::Model<D>& model,
                        const std::vector<contact::ContactPair<D>>& pairs, std::vector<std::string>& out) {
   for (std::size_t p = 0; p < pairs.size() && p < scenario.contacts.size(); ++p) {
-    const double slave = median_edge<D>(pairs[p].slave, model), master = median_edge<D>(pairs[p].master, model);
+    const double slave = contact::median_facet_size<D>(pairs[p].slave, model.X),
+                 master = contact::median_facet_size<D>(pairs[p].master, model.X);
     if (!(slave > kCoarseSlave * master) || flat<D>(pairs[p].master, model)) continue;
     const io::ContactSpec& c = scenario.contacts[p];
     out.push_back(fmt::format(

@@ -385,6 +385,42 @@ TEST(ScenarioGeneralContact, PairsEveryBodyAndEachWithItself) {
   EXPECT_EQ(some.contacts[0].passes, 1);  // two passes are frictionless only
 }
 
+// `passes` for every deformable pair and for one pair: one pass where two
+// over-constrain (flat faces of unlike meshes, docs/theory.md); a pair
+// table may set its passes alone, keeping the general kind.
+TEST(ScenarioGeneralContact, PassesOfEveryPairAndOfOne) {
+  auto passes_of = [](const std::vector<ContactSpec>& contacts, const std::string& slave, const std::string& master) {
+    for (const ContactSpec& c : contacts)
+      if (c.slave_body == slave && c.master_body == master) return c.passes;
+    return 0;
+  };
+  const auto one = parse_scenario(three_bodies("[general_contact]\npasses = 1\n"), case_file());
+  EXPECT_EQ(passes_of(one.contacts, "a", "c"), 1);
+  EXPECT_EQ(passes_of(one.contacts, "a", "plane"), 1);
+  const auto pair = parse_scenario(
+      three_bodies("[general_contact]\npasses = 1\n[[general_contact.pair]]\nbodies = [\"c\", \"a\"]\npasses = 2\n"),
+      case_file());
+  EXPECT_EQ(passes_of(pair.contacts, "a", "c"), 2);
+  for (const ContactSpec& c : pair.contacts) EXPECT_EQ(c.kind, ContactKind::frictionless);
+  const auto two = parse_scenario(
+      three_bodies("[general_contact]\n[[general_contact.pair]]\nbodies = [\"a\", \"c\"]\npasses = 1\n"), case_file());
+  EXPECT_EQ(passes_of(two.contacts, "a", "c"), 1);
+}
+
+TEST(ScenarioGeneralContact, PassesWhereTwoCannotHoldAreOneLine) {
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\npasses = 3\n"), 30, "general_contact.passes", "3"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\n[[general_contact.pair]]\nbodies = [\"a\", "
+                                      "\"plane\"]\npasses = 2\n"),
+                         32, "general_contact.pair[0].passes", "rigid"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\n[[general_contact.pair]]\nbodies = [\"a\"]\npasses = 2\n"),
+                         32, "general_contact.pair[0].passes", "itself"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\n[[general_contact.pair]]\nbodies = [\"a\", \"c\"]\n"
+                                      "kind = \"stick\"\npasses = 2\n"),
+                         33, "general_contact.pair[0].passes", "frictionless constraints only"));
+  EXPECT_TRUE(fails_with(three_bodies("[general_contact]\n[[general_contact.pair]]\nbodies = [\"a\", \"c\"]\n"), 30,
+                         "general_contact.pair[0]", "sets neither kind nor passes"));
+}
+
 TEST(ScenarioGeneralContact, BadInputIsOneLine) {
   EXPECT_TRUE(fails_with(three_bodies("[general_contact]\nexclude = [\"d\"]\n"), 30, "general_contact.exclude",
                          "unknown body 'd'"));
