@@ -651,9 +651,12 @@ void Elimination<D>::add_variation_block(int c, int out, bool slip, int in, cons
   const int* t_nodes = ci < 0 ? &in : trial_rows_[ci].nodes.data();
   const Mat<D>* t_blocks = ci < 0 ? &identity : trial_rows_[ci].blocks.data();
   const std::size_t t_size = ci < 0 ? 1 : trial_rows_[ci].nodes.size();
+  std::vector<int> columns(t_size);  // slots in c's V table, looked up once
+  for (std::size_t j = 0; j < t_size; ++j) columns[j] = reduction_->column_slot(c, t_nodes[j]);
   for (std::size_t i = 0; i < w_size; ++i) {
     const Mat<D> WG = w_blocks[i].transpose() * G;
-    for (std::size_t j = 0; j < t_size; ++j) reduction_->add(c, w_nodes[i], t_nodes[j], WG * t_blocks[j], K_r);
+    const int row = reduction_->row_slot(c, w_nodes[i]);
+    for (std::size_t j = 0; j < t_size; ++j) reduction_->add_slot(c, row, columns[j], WG * t_blocks[j], K_r);
   }
 }
 

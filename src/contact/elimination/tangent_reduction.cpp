@@ -23,6 +23,19 @@ Span expansion(const std::vector<BlockRow<D>>& map, int c, const int& node) {
   return {map[c].nodes.data(), static_cast<int>(map[c].nodes.size())};
 }
 
+/// The row expansion of what reaches a column (TangentReduction::Reach):
+/// a block's row node through W, or constraint c's V rows (source −1 − c).
+template <int D, typename Block>
+Span row_span(const SlaveRows<D>& rows, const std::vector<Block>& blocks,
+              const std::vector<std::vector<int>>& table_rows, int source) {
+  if (source < 0) {
+    const std::vector<int>& r = table_rows[static_cast<std::size_t>(-1 - source)];
+    return {r.data(), static_cast<int>(r.size())};
+  }
+  const Block& b = blocks[static_cast<std::size_t>(source)];
+  return expansion(rows.test, rows.slave_of[b.row], b.row);
+}
+
 void sort_unique(std::vector<int>& v) {
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
@@ -121,15 +134,15 @@ void TangentReduction<D>::build(const SlaveRows<D>& rows) {
 }
 
 /// K's blocks in a slave row or column, and K_r's node pattern: K's plus
-/// the blocks their products reach and each slave's V and β blocks.
+/// the blocks their products reach and each slave's V and β blocks. What
+/// reaches a column node J (reach_: a block of K whose column expansion
+/// holds J, or a constraint's V table) brings its row expansion; each
+/// column's new rows are the union of those, found with stamps (a dense
+/// cycle's rows are long, and every block of the cycle brings nearly the
+/// same ones).
 template <int D>
 void TangentReduction<D>::make_slave_blocks(const SlaveRows<D>& rows, std::vector<int>& block_of,
                                             std::vector<char>& involved) {
-  std::vector<std::pair<int, int>> extra;  // (column node, row node)
-  auto add = [&](Span ms, Span ns) {
-    for (int j = 0; j < ns.size; ++j)
-      for (int i = 0; i < ms.size; ++i) extra.emplace_back(ns.nodes[j], ms.nodes[i]);
-  };
   blocks_.clear();
   block_of.assign(k_nodes_.size(), -1);
   involved.assign(nodes_, 0);
@@ -140,30 +153,61 @@ void TangentReduction<D>::make_slave_blocks(const SlaveRows<D>& rows, std::vecto
       involved[N] = 1;
       block_of[q] = static_cast<int>(blocks_.size());
       blocks_.push_back({M, N});
-      add(expansion(rows.test, cm, M), expansion(rows.trial, cn, N));
     }
-  slave_rows_.assign(rows.slaves.size(), {});
-  slave_cols_.assign(rows.slaves.size(), {});
-  for (std::size_t c = 0; c < rows.slaves.size(); ++c) {
+  const auto slaves = static_cast<int>(rows.slaves.size());
+  slave_rows_.assign(slaves, {});
+  slave_cols_.assign(slaves, {});
+  for (int c = 0; c < slaves; ++c) {
     slave_rows_[c] = rows.test[c].nodes;
     slave_cols_[c] = rows.trial[c].nodes;
     slave_rows_[c].push_back(rows.slaves[c]);
     slave_cols_[c].push_back(rows.slaves[c]);
     sort_unique(slave_rows_[c]);
     sort_unique(slave_cols_[c]);
-    add({slave_rows_[c].data(), static_cast<int>(slave_rows_[c].size())},
-        {slave_cols_[c].data(), static_cast<int>(slave_cols_[c].size())});
   }
-  std::sort(extra.begin(), extra.end());
-  extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+  // reach_, grouped by column node.
+  reach_offsets_.assign(static_cast<std::size_t>(nodes_) + 1, 0);
+  for (const Block& b : blocks_) {
+    const Span ns = expansion(rows.trial, rows.slave_of[b.col], b.col);
+    for (int j = 0; j < ns.size; ++j) ++reach_offsets_[ns.nodes[j] + 1];
+  }
+  for (int c = 0; c < slaves; ++c)
+    for (const int N : slave_cols_[c]) ++reach_offsets_[N + 1];
+  for (int N = 0; N < nodes_; ++N) reach_offsets_[N + 1] += reach_offsets_[N];
+  reach_.resize(reach_offsets_.back());
+  std::vector<int> cursor(reach_offsets_.begin(), reach_offsets_.end() - 1);
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    const Span ns = expansion(rows.trial, rows.slave_of[blocks_[b].col], blocks_[b].col);
+    for (int j = 0; j < ns.size; ++j) reach_[cursor[ns.nodes[j]]++] = {static_cast<int>(b), j};
+  }
+  for (int c = 0; c < slaves; ++c)
+    for (std::size_t j = 0; j < slave_cols_[c].size(); ++j)
+      reach_[cursor[slave_cols_[c][j]]++] = {-1 - c, static_cast<int>(j)};
+  // Each column's rows: K's and the reaches' row expansions. A row span is
+  // a constraint's test row (id c), a lone node (slaves + M) or a V table's
+  // rows (slaves + nodes + c).
+  std::vector<int> span_stamp(2 * static_cast<std::size_t>(slaves) + nodes_, -1), node_stamp(nodes_, -1);
+  std::vector<int> added;
   r_offsets_.assign(1, 0);
   r_nodes_.clear();
-  r_nodes_.reserve(k_nodes_.size() + extra.size());
-  auto e = extra.begin();
-  std::vector<int> added;
+  r_nodes_.reserve(k_nodes_.size());
   for (int N = 0; N < nodes_; ++N) {
     added.clear();
-    for (; e != extra.end() && e->first == N; ++e) added.push_back(e->second);
+    for (int r = reach_offsets_[N]; r < reach_offsets_[N + 1]; ++r) {
+      const Span span = row_span(rows, blocks_, slave_rows_, reach_[r].source);
+      const int id = reach_[r].source < 0 ? slaves + nodes_ + (-1 - reach_[r].source)
+                     : rows.slave_of[blocks_[reach_[r].source].row] >= 0
+                         ? rows.slave_of[blocks_[reach_[r].source].row]
+                         : slaves + blocks_[reach_[r].source].row;
+      if (span_stamp[id] == N) continue;
+      span_stamp[id] = N;
+      for (int i = 0; i < span.size; ++i)
+        if (node_stamp[span.nodes[i]] != N) {
+          node_stamp[span.nodes[i]] = N;
+          added.push_back(span.nodes[i]);
+        }
+    }
+    std::sort(added.begin(), added.end());
     std::set_union(k_nodes_.begin() + k_offsets_[N], k_nodes_.begin() + k_offsets_[N + 1], added.begin(), added.end(),
                    std::back_inserter(r_nodes_));
     r_offsets_.push_back(static_cast<int>(r_nodes_.size()));
@@ -223,29 +267,43 @@ void TangentReduction<D>::make_pattern(const std::vector<char>& involved, const 
     }
 }
 
-/// Position of K_r's entry (M·D, N·D): the first of node block (M, N).
-template <int D>
-int TangentReduction<D>::position(int M, int N) const {
-  const int* begin = r_nodes_.data() + r_offsets_[N];
-  const int c = N * D;
-  return outer_[c] + index_of(begin, r_nodes_.data() + r_offsets_[N + 1], M) * D;
-}
-
 /// The K_r position of every product's block in the order reduce() adds
-/// them, and each slave's table for V and β.
+/// them (block b's from target_offsets_[b], row i of its row expansion and
+/// column j of its column expansion at i · (columns) + j), and each slave's
+/// table for V and β: per column node, its rows' slots looked up once.
 template <int D>
 void TangentReduction<D>::make_targets(const SlaveRows<D>& rows) {
-  targets_.clear();
-  for (const Block& b : blocks_) {
-    const Span ms = expansion(rows.test, rows.slave_of[b.row], b.row);
-    const Span ns = expansion(rows.trial, rows.slave_of[b.col], b.col);
-    for (int i = 0; i < ms.size; ++i)
-      for (int j = 0; j < ns.size; ++j) targets_.push_back(position(ms.nodes[i], ns.nodes[j]));
+  target_offsets_.assign(blocks_.size() + 1, 0);
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    const Span ms = expansion(rows.test, rows.slave_of[blocks_[b].row], blocks_[b].row);
+    const Span ns = expansion(rows.trial, rows.slave_of[blocks_[b].col], blocks_[b].col);
+    target_offsets_[b + 1] = target_offsets_[b] + ms.size * ns.size;
   }
+  targets_.assign(static_cast<std::size_t>(target_offsets_.back()), 0);
   slave_table_.assign(rows.slaves.size(), {});
   for (std::size_t c = 0; c < rows.slaves.size(); ++c)
-    for (const int M : slave_rows_[c])
-      for (const int N : slave_cols_[c]) slave_table_[c].push_back(position(M, N));
+    slave_table_[c].assign(slave_rows_[c].size() * slave_cols_[c].size(), 0);
+  std::vector<int> slot(nodes_, -1);
+  for (int N = 0; N < nodes_; ++N) {
+    for (int q = r_offsets_[N]; q < r_offsets_[N + 1]; ++q) slot[r_nodes_[q]] = q - r_offsets_[N];
+    const int base = outer_[N * D];
+    for (int r = reach_offsets_[N]; r < reach_offsets_[N + 1]; ++r) {
+      const Reach& reach = reach_[r];
+      const Span ms = row_span(rows, blocks_, slave_rows_, reach.source);
+      if (reach.source >= 0) {
+        const Block& b = blocks_[reach.source];
+        const int columns = expansion(rows.trial, rows.slave_of[b.col], b.col).size;
+        int* out = targets_.data() + target_offsets_[reach.source] + reach.j;
+        for (int i = 0; i < ms.size; ++i) out[i * columns] = base + slot[ms.nodes[i]] * D;
+      } else {
+        const auto c = static_cast<std::size_t>(-1 - reach.source);
+        const std::size_t columns = slave_cols_[c].size();
+        for (int i = 0; i < ms.size; ++i)
+          slave_table_[c][i * columns + reach.j] = base + slot[ms.nodes[i]] * D;
+      }
+    }
+    for (int q = r_offsets_[N]; q < r_offsets_[N + 1]; ++q) slot[r_nodes_[q]] = -1;
+  }
 }
 
 template <int D>
@@ -316,11 +374,25 @@ bool TangentReduction<D>::reduce(const SparseMatrix& K, const SlaveRows<D>& rows
 
 template <int D>
 void TangentReduction<D>::add(int c, int M, int N, const Mat<D>& X, SparseMatrix& K_r) const {
+  add_slot(c, row_slot(c, M), column_slot(c, N), X, K_r);
+}
+
+template <int D>
+int TangentReduction<D>::row_slot(int c, int M) const {
   const std::vector<int>& rows = slave_rows_[c];
+  return index_of(rows.data(), rows.data() + rows.size(), M);
+}
+
+template <int D>
+int TangentReduction<D>::column_slot(int c, int N) const {
   const std::vector<int>& cols = slave_cols_[c];
-  const int i = index_of(rows.data(), rows.data() + rows.size(), M);
-  const int j = index_of(cols.data(), cols.data() + cols.size(), N);
-  add_at(slave_table_[c][i * cols.size() + j], N, X, K_r.valuePtr());
+  return index_of(cols.data(), cols.data() + cols.size(), N);
+}
+
+template <int D>
+void TangentReduction<D>::add_slot(int c, int i, int j, const Mat<D>& X, SparseMatrix& K_r) const {
+  const std::vector<int>& cols = slave_cols_[c];
+  add_at(slave_table_[c][i * cols.size() + j], cols[j], X, K_r.valuePtr());
 }
 
 template class TangentReduction<2>;

@@ -52,6 +52,11 @@ class TangentReduction {
   /// its test row's nodes and N its node or one of its trial row's nodes
   /// (the blocks of V and β); K_r from the last reduce().
   void add(int c, int M, int N, const Mat<D>& X, SparseMatrix& K_r) const;
+  /// The same by slots: row_slot(c, M) and column_slot(c, N), looked up
+  /// once for a row or column of V's blocks.
+  void add_slot(int c, int i, int j, const Mat<D>& X, SparseMatrix& K_r) const;
+  [[nodiscard]] int row_slot(int c, int M) const;
+  [[nodiscard]] int column_slot(int c, int N) const;
   /// Pattern builds so far (for tests: reuse while the nodes are unchanged).
   [[nodiscard]] int builds() const { return builds_; }
 
@@ -62,6 +67,13 @@ class TangentReduction {
   struct Block {
     int row, col;  ///< nodes of a block of K with a slave row or column
   };
+  /// What reaches a column node: a block of K (source ≥ 0, its index) or
+  /// constraint c's V table (source −1 − c), at index j of its column
+  /// expansion.
+  struct Reach {
+    int source, j;
+  };
+
   [[nodiscard]] bool fits(const SparseMatrix& K) const;
   [[nodiscard]] bool same_nodes(const SlaveRows<D>& rows) const;
   void set_k(const SparseMatrix& K);
@@ -70,7 +82,6 @@ class TangentReduction {
   void make_pattern(const std::vector<char>& involved, const std::vector<int>& block_of);
   void make_targets(const SlaveRows<D>& rows);
   void add_run(int src, int dst, int len);
-  [[nodiscard]] int position(int M, int N) const;
   bool adopt_pattern(SparseMatrix& K_r);
   void add_at(int p0, int N, const Mat<D>& X, double* values) const;
 
@@ -92,6 +103,9 @@ class TangentReduction {
   std::vector<std::pair<int, int>> gather_;  ///< (K position, index into buffer_)
   std::vector<Block> blocks_;                ///< buffer_ holds their values, D × D column-major each
   std::vector<int> targets_;                 ///< K_r position of each product's block, in reduce()'s order
+  std::vector<int> target_offsets_;          ///< per block of blocks_: its first entry of targets_
+  std::vector<int> reach_offsets_;           ///< per column node: its reaches in reach_
+  std::vector<Reach> reach_;
   std::vector<std::vector<int>> slave_rows_, slave_cols_, slave_table_;  ///< per constraint: V's and β's blocks
   std::vector<double> buffer_;
   int builds_ = 0;
