@@ -2,7 +2,8 @@
 # Installs every build, test, plotting and benchmark dependency of conserve
 # (petsc-dev: PETSc with OpenMPI, the Krylov and multigrid back ends)
 # from Debian 12 packages (`time` is GNU time, for bench/run_paper.sh;
-# python3-vtk9 and python3-meshio read the VTU output in the tests).
+# python3-vtk9 and python3-meshio read the VTU output in the tests;
+# calculix-ccx is the peer code of bench/run_calculix.sh).
 # Idempotent: packages already present are skipped by apt, and the package
 # index is refreshed only when something is missing.
 set -euo pipefail
@@ -16,7 +17,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
   python3-vtk9 python3-meshio
-  time
+  time calculix-ccx
 )
 
 missing=()
