@@ -187,6 +187,11 @@ void TangentReduction<D>::make_slave_blocks(const SlaveRows<D>& rows, std::vecto
   // a constraint's test row (id c), a lone node (slaves + M) or a V table's
   // rows (slaves + nodes + c).
   std::vector<int> span_stamp(2 * static_cast<std::size_t>(slaves) + nodes_, -1), node_stamp(nodes_, -1);
+  auto span_id = [&](int source) {
+    if (source < 0) return slaves + nodes_ + (-1 - source);
+    const int M = blocks_[source].row;
+    return rows.slave_of[M] >= 0 ? rows.slave_of[M] : slaves + M;
+  };
   std::vector<int> added;
   r_offsets_.assign(1, 0);
   r_nodes_.clear();
@@ -195,10 +200,7 @@ void TangentReduction<D>::make_slave_blocks(const SlaveRows<D>& rows, std::vecto
     added.clear();
     for (int r = reach_offsets_[N]; r < reach_offsets_[N + 1]; ++r) {
       const Span span = row_span(rows, blocks_, slave_rows_, reach_[r].source);
-      const int id = reach_[r].source < 0 ? slaves + nodes_ + (-1 - reach_[r].source)
-                     : rows.slave_of[blocks_[reach_[r].source].row] >= 0
-                         ? rows.slave_of[blocks_[reach_[r].source].row]
-                         : slaves + blocks_[reach_[r].source].row;
+      const int id = span_id(reach_[r].source);
       if (span_stamp[id] == N) continue;
       span_stamp[id] = N;
       for (int i = 0; i < span.size; ++i)
