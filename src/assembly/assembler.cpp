@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -153,24 +154,34 @@ void Assembler<D>::internal_force_tangent(const StepStart& start, const Eigen::V
                                           fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const {
   f.setZero(model_.num_dofs());
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
-  add_tangent(start, u_np1, scheme, &f, K);
+  add_tangent(start, u_np1, scheme, &f, nullptr, K);
 }
 
 template <int D>
 void Assembler<D>::add_internal_force_derivative(const StepStart& start, const Eigen::VectorXd& u_np1,
                                                  fem::StressScheme scheme, SparseMatrix& K) const {
-  add_tangent(start, u_np1, scheme, nullptr, K);
+  add_tangent(start, u_np1, scheme, nullptr, nullptr, K);
+}
+
+template <int D>
+void Assembler<D>::add_internal_force_and_derivative(const StepStart& start, const Eigen::VectorXd& u_np1,
+                                                     fem::StressScheme scheme, Eigen::VectorXd& f,
+                                                     Eigen::VectorXd& magnitude, SparseMatrix& K) const {
+  add_tangent(start, u_np1, scheme, &f, &magnitude, K);
 }
 
 template <int D>
 void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
-                               Eigen::VectorXd* f, SparseMatrix& K) const {
+                               Eigen::VectorXd* f, Eigen::VectorXd* magnitude, SparseMatrix& K) const {
   double* values = K.valuePtr();
   const NodePartition& parts = partition();
+  if (!f) magnitude = nullptr;
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
     Eigen::VectorXd& local = scratch_[p].force;
+    Eigen::VectorXd& local_magnitude = scratch_[p].magnitude;
     if (f) local.setZero(size);
+    if (magnitude) local_magnitude.setZero(size);
     fem::NodeMatrix<D> fe;
     fem::ElementMatrix<D> Ke;
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
@@ -179,11 +190,16 @@ void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_
       fem::internal_force_tangent<D>(model_.geometry[c], law(c), start[static_cast<std::size_t>(c)],
                                      cell_positions(c, u_np1), scheme, fe, Ke);
       if (f)
-        for (int a = 0; a <= D; ++a)
-          if (owned >> a & 1u) local.segment<D>((model_.cells(a, c) - first) * D) += fe.col(a);
+        for (int a = 0; a <= D; ++a) {
+          if (!(owned >> a & 1u)) continue;
+          const int at = (model_.cells(a, c) - first) * D;
+          local.segment<D>(at) += fe.col(a);
+          if (magnitude) local_magnitude.segment<D>(at) += fe.col(a).cwiseAbs();
+        }
       pattern_.add_cell_matrix(c, Ke, values, owned);  // the owned nodes' block columns
     }
     if (f) f->segment(first * D, size) += local;
+    if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
   });
 }
 
@@ -191,6 +207,48 @@ template <int D>
 void Assembler<D>::internal_force_tangent(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1,
                                           fem::StressScheme scheme, Eigen::VectorXd& f, SparseMatrix& K) const {
   internal_force_tangent(step_start(u_n), u_np1, scheme, f, K);
+}
+
+template <int D>
+const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::VectorXd& u) const {
+  if (measures_.cells && measured_u_.size() == u.size() &&
+      std::memcmp(measured_u_.data(), u.data(), sizeof(double) * static_cast<std::size_t>(u.size())) == 0)
+    return measures_;
+  const int n = model_.num_cells();
+  auto cells = std::make_shared<StepStart>(static_cast<std::size_t>(n));
+  std::vector<double> W(static_cast<std::size_t>(n)), det(static_cast<std::size_t>(n));
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.num_dofs());
+  const NodePartition& parts = partition();
+  for_each_part(parts, [&](int p) {
+    const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
+    Eigen::VectorXd& local = scratch_[p].force;
+    local.setZero(size);
+    for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
+      const int c = parts.visit_cell[v];
+      const std::uint8_t owned = parts.visit_owned[v];
+      const fem::SimplexGeometry<D>& g = model_.geometry[c];
+      const fem::NodeMatrix<D> x = cell_positions(c, u);
+      const fem::CellStart<D> start = fem::cell_start<D>(g, x);
+      const fem::NodeMatrix<D> fe = fem::internal_force<D>(g, law(c), start, x, fem::StressScheme::conserving);
+      for (int a = 0; a <= D; ++a)
+        if (owned >> a & 1u) local.segment<D>((model_.cells(a, c) - first) * D) += fe.col(a);
+      if (!(owned & 1u)) continue;  // the cell's own figures: by the part that owns its first node
+      (*cells)[static_cast<std::size_t>(c)] = start;
+      W[static_cast<std::size_t>(c)] = fem::strain_energy<D>(g, law(c), x);
+      det[static_cast<std::size_t>(c)] = start.F.determinant();
+    }
+    f.segment(first * D, size) += local;
+  });
+  StateMeasures m;
+  m.cells = std::move(cells);
+  for (const double w : W) m.strain_energy += w;  // in cell order, as strain_energy()
+  m.orientation = {std::numeric_limits<double>::infinity(), -1};
+  for (int c = 0; c < n; ++c)
+    if (det[static_cast<std::size_t>(c)] < m.orientation.det_F) m.orientation = {det[static_cast<std::size_t>(c)], c};
+  m.force_norm = f.norm();
+  measures_ = std::move(m);
+  measured_u_ = u;
+  return measures_;
 }
 
 template <int D>

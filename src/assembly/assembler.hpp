@@ -7,6 +7,7 @@
 /// part of the nodes that owns it (assembly/partition.hpp), and sums and
 /// minima over cells go in cell order. An Assembler serves one caller at a
 /// time: its loops keep per-part buffers between calls.
+#include <memory>
 #include <vector>
 
 #include "assembly/block_pattern.hpp"
@@ -79,6 +80,26 @@ class Assembler {
   /// Adds ∂f/∂u_{n+1} to K (the pattern's layout) and nothing else.
   void add_internal_force_derivative(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                                      SparseMatrix& K) const;
+  /// add_internal_force() and add_internal_force_derivative() in one pass
+  /// over the cells (each cell's state computed once): the same bits as the
+  /// two calls.
+  void add_internal_force_and_derivative(const StepStart& start, const Eigen::VectorXd& u_np1,
+                                         fem::StressScheme scheme, Eigen::VectorXd& f, Eigen::VectorXd& magnitude,
+                                         SparseMatrix& K) const;
+
+  /// What a run needs of a state u besides its steps' residuals, from one
+  /// pass over the cells: the same bits as step_start(u), strain_energy(u),
+  /// min_det_F(u) and |internal_force(step_start(u), u, conserving)|, the
+  /// force of a step that does not move. The last state's are kept: asked
+  /// again for the same u (bit for bit), they are not computed again (a
+  /// step's end is checked, reported and starts the next step).
+  struct StateMeasures {
+    std::shared_ptr<const StepStart> cells;  ///< each cell's F and E at u
+    double strain_energy = 0.0;              ///< W(u) [J]
+    Orientation orientation;                 ///< the smallest det F at u
+    double force_norm = 0.0;                 ///< |f(u)| [N]
+  };
+  [[nodiscard]] const StateMeasures& measures(const Eigen::VectorXd& u) const;
 
   /// The smallest det F over the cells at displacements u, and its cell
   /// (the lowest such cell on ties).
@@ -98,9 +119,10 @@ class Assembler {
 
  private:
   [[nodiscard]] const material::Law& law(int cell) const { return *model_.bodies[model_.cell_body[cell]].law; }
-  /// K += ∂f/∂u_{n+1} and, if given, f += the internal force.
+  /// K += ∂f/∂u_{n+1} and, if given, f += the internal force (and
+  /// magnitude += Σ_cells |f_cell|, if given too).
   void add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme, Eigen::VectorXd* f,
-                   SparseMatrix& K) const;
+                   Eigen::VectorXd* magnitude, SparseMatrix& K) const;
   const model::Model<D>& model_;
   BlockPattern<D> pattern_;
   /// A part's sums before they go into the result, kept between calls so
@@ -109,6 +131,8 @@ class Assembler {
     Eigen::VectorXd force, magnitude;
   };
   mutable NodePartition partition_;
+  mutable StateMeasures measures_;  ///< measures() of measured_u_
+  mutable Eigen::VectorXd measured_u_;
   mutable std::vector<Scratch> scratch_;
   SparseMatrix mass_;
   SparseMatrix node_mass_;  ///< M_AB, nodes × nodes

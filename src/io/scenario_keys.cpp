@@ -160,8 +160,9 @@ SectionSpec solver_section() {
                .default_value = "true",
                .doc = "keep a tangent (and its factorization or preconditioner) across iterations and steps while "
                       "each iteration reduces the residual 4× and, at that rate, reaches the tolerance with "
-                      "iterations to spare; linear convergence at a residual and a solve per iteration instead of "
-                      "an assembly and a set-up; same conservation (false: full Newton, a tangent per iteration)"},
+                      "iterations to spare; one that reduces it less than 100× while 3 more iterations are "
+                      "projected is replaced at the next iterate, assembled in the same pass as its residual; "
+                      "same conservation (false: full Newton, a tangent per iteration)"},
               {.name = "petsc_options",
                .type = KeyType::string,
                .default_value = "",

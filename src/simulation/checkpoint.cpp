@@ -36,7 +36,8 @@ constexpr std::string_view kMagic = "conserve-checkpoint";
 /// the free rigid bodies' motions. 18: the state's friction dissipation;
 /// the constraints' friction μ and slip regularization (Coulomb). 19:
 /// the run statistics as every run's, then the contact method's own.
-constexpr std::uint32_t kVersion = 19;
+/// 20: the integrator keeps the kept tangent's first contraction.
+constexpr std::uint32_t kVersion = 20;
 
 using Writer = ByteWriter;
 using Reader = ByteReader;

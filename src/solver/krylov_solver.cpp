@@ -412,6 +412,8 @@ void KrylovSolver::set_operator(const SparseMatrix& M) {
   check(KSPSetUp(p.ksp), "the preconditioner set-up");  // builds the preconditioner now, timed here
 }
 
+bool KrylovSolver::cheap_setup() const { return petsc_->gmres_matrix && petsc_->lu_first_left == 0; }
+
 std::uint64_t KrylovSolver::generation() const { return petsc_->kind == Preconditioner::gamg ? petsc_->ksps : 0; }
 
 std::string KrylovSolver::save_state() const {

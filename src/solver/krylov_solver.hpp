@@ -35,6 +35,8 @@ class KrylovSolver final : public LinearSolver {
   void set_operator(const SparseMatrix& A) override;
   LinearSolve solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, double rtol) override;
   [[nodiscard]] bool exact() const override { return false; }
+  /// False while the matrices go to the LU (after a stagnated GMRES).
+  [[nodiscard]] bool cheap_setup() const override;
   void reset() override;
   /// GAMG: a new KSP (pattern or reset) builds a new interpolation.
   [[nodiscard]] std::uint64_t generation() const override;

@@ -56,6 +56,10 @@ class LinearSolver {
   virtual LinearSolve solve(const Eigen::VectorXd& b, Eigen::VectorXd& x, double rtol) = 0;
   /// True for a direct solver: Newton then needs no forcing terms.
   [[nodiscard]] virtual bool exact() const = 0;
+  /// True while a new operator costs about a few solves (an ILU or AMG
+  /// set-up), not a factorization: Newton then takes fresh tangents
+  /// readily (NewtonSettings::fresh_ratio).
+  [[nodiscard]] virtual bool cheap_setup() const { return !exact(); }
   /// Forgets what is kept from earlier matrices beyond the present one
   /// (GAMG's interpolation).
   virtual void reset() {}

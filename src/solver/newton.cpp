@@ -85,17 +85,34 @@ bool keep_tangent(const NewtonReport& report, const NewtonSettings& settings) {
   return needed <= settings.max_iterations - report.iterations - kSpareIterations;
 }
 
+/// Modified Newton: whether the next iterate takes a fresh tangent with its
+/// residual (NewtonSettings::fresh_ratio), judged before this iteration's
+/// solve, at residual r, with `ratio` the kept tangent's contraction (last
+/// iteration's, or a previous solve's; ≤ 0: unknown). Only where a new
+/// operator costs the solver little (LinearSolver::cheap_setup).
+bool fresh_next(double r, double ratio, double tolerance, const NewtonSettings& settings, const LinearSolver& solver) {
+  if (!settings.modified_newton || !(settings.fresh_ratio > 0.0) || !(ratio > settings.fresh_ratio)) return false;
+  if (!solver.cheap_setup()) return false;
+  if (!(ratio < 1.0)) return true;
+  const double projected = std::log(tolerance / r) / std::log(ratio);
+  return projected >= settings.fresh_after + 1;  // this iteration and fresh_after more
+}
+
 }  // namespace
 
 NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const NewtonSettings& settings,
-                          bool reusable, double* nonlinearity) {
+                          bool reusable, NewtonMemory* memory) {
+  NewtonMemory unused;
+  NewtonMemory& kept = memory ? *memory : unused;
   NewtonReport report;
   Eigen::VectorXd r, dx;
   problem.residual(r);
   report.residual_norms.push_back(r.norm());
   report.floor = problem.residual_floor();
   bool refactor = !(settings.modified_newton && reusable);
-  Forcing forcing(settings.forcing_max, nonlinearity ? *nonlinearity : -1.0);
+  bool fresh = false;     // this iteration's tangent was set at its iterate
+  bool prepared = false;  // the last residual came with its tangent (prepare_tangent)
+  Forcing forcing(settings.forcing_max, kept.nonlinearity);
   for (;;) {
     const double scale = problem.force_scale();
     if (!std::isfinite(scale)) {
@@ -105,6 +122,9 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
     report.tolerance = settings.residual_tolerance * scale;
     report.failure = judge(report, problem.floor_scale(), settings);
     if (report.failure.empty()) {
+      // A tangent assembled for an iterate that turned out to be the
+      // solution is kept for the next solves: it is the freshest.
+      if (prepared) solver.set_operator(problem.tangent()), ++report.tangents;
       report.converged = true;
       return report;
     }
@@ -113,8 +133,16 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
       report.failure = fmt::format("{} iterations were not enough", settings.max_iterations);
       return report;
     }
-    if (refactor) solver.set_operator(problem.tangent());
+    if (refactor) solver.set_operator(problem.tangent()), ++report.tangents;
+    fresh = refactor;
     const double r_old = report.residual_norms.back();
+    // The kept tangent's contraction: this solve's last, or before the
+    // first ratio, the previous solve's first.
+    const auto& norms = report.residual_norms;
+    const double ratio = report.iterations > 0 ? (fresh ? 0.0 : norms.back() / norms[norms.size() - 2])
+                                               : (fresh ? 0.0 : kept.kept_ratio);
+    prepared = fresh_next(r_old, ratio, report.tolerance, settings, solver);
+    if (prepared) problem.prepare_tangent();
     const double eta = solver.exact() ? 0.0 : forcing.next(r_old, report.tolerance);
     const LinearSolve linear = solver.solve(-r, dx, eta);
     report.linear_iterations += linear.iterations;
@@ -151,8 +179,9 @@ NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const Ne
       return report;
     }
     forcing.observe(r_old, linear.residual, report.residual_norms.back(), report.tolerance);
-    if (nonlinearity) *nonlinearity = forcing.nonlinearity();
-    refactor = !keep_tangent(report, settings);
+    kept.nonlinearity = forcing.nonlinearity();
+    if (report.iterations == 1 && !fresh) kept.kept_ratio = r_new / r_old;
+    refactor = prepared || !keep_tangent(report, settings);
   }
 }
 

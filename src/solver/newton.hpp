@@ -16,6 +16,11 @@ class NewtonProblem {
   virtual void residual(Eigen::VectorXd& r) = 0;
   /// Tangent ∂r/∂(unknowns) at the current iterate.
   virtual const SparseMatrix& tangent() = 0;
+  /// Announces that tangent() will be asked for at the iterate of the next
+  /// residual() call: a problem whose residual and tangent share their
+  /// work may assemble both there in one pass. Only a hint: tangent() is
+  /// right wherever it is called.
+  virtual void prepare_tangent() {}
   /// Applies the increment Δ solved from K Δ = −r.
   virtual void update(const Eigen::VectorXd& increment) = 0;
   /// Undoes the last update() (for the line search); returns false, doing
@@ -59,6 +64,19 @@ struct NewtonSettings {
   /// modified_newton).
   bool modified_newton = false;
   double reuse_ratio = 0.25;
+  /// Modified Newton: a kept tangent that contracts the residual by less
+  /// than this per iteration (r_{k+1}/r_k above it) while at least
+  /// fresh_after more iterations are projected at that rate is replaced
+  /// at the next iterate, assembled in the same pass as its residual
+  /// (NewtonProblem::prepare_tangent). Before a solve's first residual
+  /// ratio is known, the previous solve's first ratio with a kept tangent
+  /// (NewtonMemory::kept_ratio) stands for it. A fresh tangent converges
+  /// nearly quadratically; a kept one whose iterate has moved on (a
+  /// vibrating body whose strains change a few per cent a step) contracts
+  /// 20–50× per iteration and slows as the residual falls
+  /// (bench/results/newton.md). 0: never (the reuse_ratio rule alone).
+  double fresh_ratio = 1e-2;
+  int fresh_after = 3;
   /// Inexact Newton: an iterative solver solves K Δ = −r_k only to
   /// |K Δ + r_k| ≤ η_k |r_k|. η_k follows Eisenstat & Walker (1996), choice
   /// 1: η_k = |r_k| − |r_{k−1} + K Δ_{k−1}| over |r_{k−1}|, the part of the
@@ -78,10 +96,18 @@ struct NewtonSettings {
   int line_search_halvings = 4;
 };
 
+/// What one solve of a run passes to the next (modified Newton, forcing
+/// terms): measures of earlier iterations, in and out; negative: unknown.
+struct NewtonMemory {
+  double nonlinearity = -1.0;  ///< C of the forcing terms' model |r_{k+1}| ≈ C |r_k|²
+  double kept_ratio = -1.0;    ///< r₁/r₀ of the last solve whose first iteration used a kept tangent
+};
+
 struct NewtonReport {
   bool converged = false;
   int iterations = 0;                  ///< linear solves done
   int backtracks = 0;                  ///< line-search halvings
+  int tangents = 0;                    ///< tangents set (set_operator calls)
   long long linear_iterations = 0;     ///< Krylov iterations over those solves
   std::vector<double> residual_norms;  ///< |r| before each solve and at the end
   double tolerance = 0.0;              ///< residual_tolerance · force_scale [N]
@@ -101,9 +127,8 @@ struct NewtonReport {
 /// non-convergence: the report says so and why, and the caller decides.
 /// `reusable`: the solver's current matrix has the structure of this
 /// problem's tangent (used with modified_newton).
-/// `nonlinearity`: C of the forcing terms' model, in and out (may be null;
-/// a negative value: unknown).
+/// `memory`: what earlier solves measured, in and out (may be null).
 NewtonReport solve_newton(NewtonProblem& problem, LinearSolver& solver, const NewtonSettings& settings,
-                          bool reusable = false, double* nonlinearity = nullptr);
+                          bool reusable = false, NewtonMemory* memory = nullptr);
 
 }  // namespace conserve::solver

@@ -96,7 +96,7 @@ solver::NewtonReport Integrator<D>::step(model::State& state, double dt) {
     });
     const int setups = timings_.linear_setups, lu_first = timings_.lu_first;
     const solver::NewtonReport report =
-        solver::solve_newton(problem, *solver_, newton_, plain && plain_factorization_, &nonlinearity_);
+        solver::solve_newton(problem, *solver_, newton_, plain && plain_factorization_, &memory_);
     if (timings_.linear_setups != setups || timings_.lu_first != lu_first) {
       plain_factorization_ = plain;
       kept_ = std::move(last);
@@ -235,7 +235,8 @@ template <int D>
 std::string Integrator<D>::save() const {
   ByteWriter w;
   w.value(static_cast<std::uint8_t>(plain_factorization_));
-  w.value(nonlinearity_);
+  w.value(memory_.nonlinearity);
+  w.value(memory_.kept_ratio);
   for (const std::optional<Origin>* o : {&source_, &kept_}) {
     w.value(static_cast<std::uint8_t>(o->has_value()));
     if (*o) write_origin(w, **o);
@@ -248,7 +249,9 @@ template <int D>
 void Integrator<D>::load(const std::string& bytes, const std::string& what) {
   ByteReader r(bytes, what);
   const bool plain = r.value<std::uint8_t>() != 0;
-  const double nonlinearity = r.value<double>();
+  solver::NewtonMemory memory;
+  memory.nonlinearity = r.value<double>();
+  memory.kept_ratio = r.value<double>();
   const Eigen::Index dofs = assembler_.model().num_dofs();
   std::optional<Origin> source = read_origin<Origin>(r, dofs), kept = read_origin<Origin>(r, dofs);
   const std::string solver_state = r.text(1024, true);
@@ -259,7 +262,7 @@ void Integrator<D>::load(const std::string& bytes, const std::string& what) {
   if (kept) set_again(*kept);
   solver_->load_state(solver_state);
   plain_factorization_ = plain && kept.has_value();
-  nonlinearity_ = nonlinearity;
+  memory_ = memory;
   source_ = std::move(source);
   kept_ = std::move(kept);
   generation_ = solver_->generation();
@@ -341,7 +344,7 @@ std::string Integrator<D>::not_converged(const solver::NewtonReport& report, std
 // retried smaller.
 template <int D>
 void Integrator<D>::check_orientation(const Eigen::VectorXd& u, std::int64_t step, double t) const {
-  const assembly::Orientation o = assembler_.min_det_F(u);
+  const assembly::Orientation o = assembler_.measures(u).orientation;  // kept for the report and the next step
   if (o.cell < 0 || o.det_F > 0.0) return;
   const auto& model = assembler_.model();
   const auto& body = model.bodies[model.cell_body[o.cell]];

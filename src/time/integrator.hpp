@@ -56,7 +56,7 @@ class Integrator {
   /// attempt, as every run does.
   void drop_factorization() {
     plain_factorization_ = false;
-    nonlinearity_ = -1.0;
+    memory_ = {};
     kept_.reset();
     source_.reset();
     solver_->reset();
@@ -140,7 +140,7 @@ class Integrator {
   /// Assembles the plain tangent at `origin` into K_ and sets the solver with it.
   void set_again(const Origin& origin);
   bool plain_factorization_ = false;  ///< the solver holds a factorization of the unreduced system
-  double nonlinearity_ = -1.0;        ///< the forcing terms' measure of the last solve (solver/newton.hpp)
+  solver::NewtonMemory memory_;       ///< what the last solves measured (solver/newton.hpp)
 
   [[nodiscard]] std::string not_converged(const solver::NewtonReport& report, std::int64_t step, double t) const;
   void check_orientation(const Eigen::VectorXd& u, std::int64_t step, double t) const;

@@ -72,7 +72,14 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
     g_.setZero(u_np1_.size());
     magnitude_.setZero(u_np1_.size());
-    for (const auto& term : terms_) term->add_value(u_np1_, g_, magnitude_);
+    assembled_ = assemble_with_residual_;
+    assemble_with_residual_ = false;
+    if (assembled_) {
+      std::fill(K_.valuePtr(), K_.valuePtr() + K_.nonZeros(), 0.0);
+      for (const auto& term : terms_) term->add_value_and_derivative(u_np1_, g_, magnitude_, K_);
+    } else {
+      for (const auto& term : terms_) term->add_value(u_np1_, g_, magnitude_);
+    }
     mask_.apply(magnitude_);
     floor_ = kRoundOff * magnitude_.norm();
     du_ = u_np1_ - start_.u;
@@ -114,11 +121,12 @@ void StepProblem<D>::residual(Eigen::VectorXd& r) {
 template <int D>
 const SparseMatrix& StepProblem<D>::tangent() {
   if (observer_) observer_(u_np1_);
-  {
+  if (!assembled_) {
     solver::ScopedTimer timer(clock(&solver::Timings::assembly));
     std::fill(K_.valuePtr(), K_.valuePtr() + K_.nonZeros(), 0.0);
     for (const auto& term : terms_) term->add_derivative(u_np1_, K_);
   }
+  assembled_ = false;
   // Prescribed rows get the inertia's mean diagonal: of the order of the
   // others, whatever the stiffness.
   const double diagonal = 2.0 / (dt_ * dt_) * assembler_.mass().diagonal().mean();
@@ -141,6 +149,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
 
 template <int D>
 void StepProblem<D>::update(const Eigen::VectorXd& increment) {
+  assembled_ = false;
   u_before_ = u_np1_;
   // The free bodies move their nodes (what follows them, a slave, moves
   // with those nodes' increments), then are placed exactly.
@@ -166,6 +175,7 @@ template <int D>
 bool StepProblem<D>::revert() {
   if (u_before_.size() != u_np1_.size()) return false;
   if (coupled() && !coupling_->restore()) return false;
+  assembled_ = false;
   if (bodies_) bodies_->restore();
   u_np1_ = u_before_;
   return true;

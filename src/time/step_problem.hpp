@@ -41,6 +41,9 @@ class StepProblem final : public solver::NewtonProblem {
 
   void residual(Eigen::VectorXd& r) override;
   const SparseMatrix& tangent() override;
+  /// The next residual() assembles the terms' derivatives too, in the same
+  /// pass over the cells; tangent() at that iterate uses them.
+  void prepare_tangent() override { assemble_with_residual_ = true; }
   void update(const Eigen::VectorXd& increment) override;
   /// Back to the iterate before the last update, with the coupling's state
   /// as it was (an elimination's facets, ξ and maps move with the update).
@@ -115,6 +118,8 @@ class StepProblem final : public solver::NewtonProblem {
   std::function<void(const Eigen::VectorXd&)> observer_;
   double check_at_ = 0.0;
   bool checked_ = false;
+  bool assemble_with_residual_ = false;  ///< prepare_tangent() was called
+  bool assembled_ = false;               ///< K_ holds the terms' derivatives at the iterate
   double unused_ = 0.0;
   double& clock(double solver::Timings::*phase) { return timings_ ? timings_->*phase : unused_; }
 };

@@ -38,6 +38,13 @@ class StepTerm {
   virtual void add_value(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g, Eigen::VectorXd& magnitude) = 0;
   /// K += ∂(value)/∂u_{n+1}; K has the assembler's pattern.
   virtual void add_derivative(const Eigen::VectorXd& u_np1, SparseMatrix& K) = 0;
+  /// add_value() and add_derivative() at once (a term whose value and
+  /// derivative share their work does both in one pass): the same bits.
+  virtual void add_value_and_derivative(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g, Eigen::VectorXd& magnitude,
+                                        SparseMatrix& K) {
+    add_value(u_np1, g, magnitude);
+    add_derivative(u_np1, K);
+  }
   /// The work over the step to u_{n+1} of the term's external forces that
   /// have no potential (model::State::load_work) [J].
   [[nodiscard]] virtual double external_work(const Eigen::VectorXd&) const { return 0.0; }
@@ -83,11 +90,16 @@ class InternalForce final : public StepTerm<D> {
   [[nodiscard]] double start_energy() const override { return stored_; }
   void add_value(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g, Eigen::VectorXd& magnitude) override;
   void add_derivative(const Eigen::VectorXd& u_np1, SparseMatrix& K) override;
+  /// One pass over the cells.
+  void add_value_and_derivative(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g, Eigen::VectorXd& magnitude,
+                                SparseMatrix& K) override;
 
  private:
+  /// The round-off magnitudes add_value() adds beyond the cells' forces.
+  void add_round_off(const Eigen::VectorXd& u_np1, Eigen::VectorXd& magnitude) const;
   const assembly::Assembler<D>& assembler_;
   fem::StressScheme scheme_;
-  typename assembly::Assembler<D>::StepStart cells_n_;  ///< each cell's F_n, E_n
+  std::shared_ptr<const typename assembly::Assembler<D>::StepStart> cells_n_;  ///< each cell's F_n, E_n
   double start_force_ = 0.0, stored_ = 0.0;
 };
 

@@ -108,7 +108,7 @@ TEST(Checkpoint, RefusesAnEarlierFormatVersion) {
     FAIL() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), (dir / "old.bin").string() +
-                                         ": bad checkpoint: format version 1, this conserve reads version 19 only "
+                                         ": bad checkpoint: format version 1, this conserve reads version 20 only "
                                          "(restart with the conserve that wrote it, or run from the start)");
   }
 }

@@ -46,6 +46,10 @@ TEST(Summary, NonFiniteNumbersAreNull) {
   EXPECT_EQ(j.at("drift").at("L_x"), 0.0);
   EXPECT_TRUE(j.at("min_dt").is_null());
   EXPECT_EQ(j.at("wall_seconds"), 1.5);
+  // The process's peak memory, and per unknown (3 here).
+  const double peak = j.at("peak_memory_bytes");
+  EXPECT_GT(peak, 1e6);
+  EXPECT_EQ(j.at("bytes_per_unknown"), peak / 3);
 }
 
 TEST(Summary, StepsBeyondThirtyTwoBitsAndBadUtf8InAPath) {

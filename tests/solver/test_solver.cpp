@@ -2,6 +2,7 @@
 #include <petscsys.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 
@@ -440,6 +441,102 @@ class CoupledCubicProblem final : public NewtonProblem {
   SparseMatrix A_, K_;
   Eigen::VectorXd x_, a_;
 };
+
+/// r_i(x) = x_i³ + x_i − a_i with a settable a (a sequence of solves, as a
+/// run's steps), which records where its tangents are taken: with the
+/// residual that prepare_tangent() announced, or alone.
+class SteppedCubic final : public NewtonProblem {
+ public:
+  explicit SteppedCubic(int n) : x_(Eigen::VectorXd::Zero(n)), a_(Eigen::VectorXd::LinSpaced(n, 1.0, 5.0)) {
+    K_.resize(n, n);
+    for (int i = 0; i < n; ++i) K_.insert(i, i) = 1.0;
+    K_.makeCompressed();
+  }
+  void residual(Eigen::VectorXd& r) override {
+    r = x_.array().cube() + x_.array() - a_.array();
+    at_residual_ = hinted_;
+    hinted_ = false;
+    if (at_residual_) assemble(), x_assembled_ = x_;
+  }
+  const SparseMatrix& tangent() override {
+    if (at_residual_) {
+      EXPECT_EQ(x_assembled_, x_);  // the iterate of that residual
+      ++with_residual;
+    } else {
+      assemble();
+      ++alone;
+    }
+    at_residual_ = false;
+    return K_;
+  }
+  void prepare_tangent() override { hinted_ = true; }
+  void update(const Eigen::VectorXd& dx) override { x_ += dx, at_residual_ = false; }
+  [[nodiscard]] double force_scale() const override { return a_.norm(); }
+  [[nodiscard]] double residual_floor() const override { return 64 * 2.2e-16 * a_.norm(); }
+  Eigen::VectorXd x_, a_;
+  int with_residual = 0, alone = 0;
+
+ private:
+  void assemble() {
+    for (int i = 0; i < x_.size(); ++i) K_.coeffRef(i, i) = 3.0 * x_[i] * x_[i] + 1.0;
+  }
+  SparseMatrix K_;
+  Eigen::VectorXd x_assembled_;
+  bool hinted_ = false, at_residual_ = false;
+};
+
+// Modified Newton over a sequence of solves whose kept tangent contracts
+// the residual only 10–20× per iteration: replacing it at the next
+// residual (NewtonSettings::fresh_ratio) takes fewer iterations, each
+// replacement assembled with that residual; without it (fresh_ratio = 0)
+// none is. (GMRES + ILU: a new operator is cheap; with the LU, the rule
+// stands down, below.)
+TEST(Newton, AKeptTangentThatContractsSlowlyIsReplacedWithTheNextResidual) {
+  int iterations[2] = {0, 0}, with_residual[2] = {0, 0};
+  for (const bool replace : {false, true}) {
+    SCOPED_TRACE(replace ? "fresh_ratio default" : "fresh_ratio = 0");
+    SteppedCubic p(20);
+    KrylovSolver s(Preconditioner::ilu, LinearSolverSettings{});
+    NewtonSettings settings{.modified_newton = true};
+    if (!replace) settings.fresh_ratio = 0.0;
+    NewtonMemory memory;
+    const Eigen::VectorXd a0 = p.a_;
+    for (int k = 0; k < 12; ++k) {
+      p.a_ = a0 * (1.0 + 0.15 * k);
+      const NewtonReport rep = solve_newton(p, s, settings, k > 0, &memory);
+      ASSERT_TRUE(rep.converged) << "solve " << k << ": " << rep.failure;
+      iterations[replace] += rep.iterations;
+      EXPECT_EQ(rep.tangents, p.with_residual + p.alone);  // every tangent taken is set
+      with_residual[replace] += p.with_residual;
+      p.with_residual = p.alone = 0;
+      if (k == 1) {
+        EXPECT_GT(memory.kept_ratio, 1e-2);  // the kept tangent contracts slowly
+        EXPECT_LT(memory.kept_ratio, 0.25);  // but fast enough for the reuse rule
+      }
+    }
+  }
+  std::printf("[ measured ] 12 solves: %d iterations, %d tangents with their residual; kept tangents only: %d\n",
+              iterations[1], with_residual[1], iterations[0]);
+  EXPECT_LT(iterations[1], 0.75 * iterations[0]) << iterations[1] << " against " << iterations[0];
+  EXPECT_EQ(with_residual[0], 0);
+  EXPECT_GT(with_residual[1], 0);
+}
+
+// Where a new operator is a factorization (the LU), a kept tangent is
+// replaced only by the reuse rule, never at the next residual.
+TEST(Newton, AFactorizationIsNotReplacedWithTheNextResidual) {
+  SteppedCubic p(20);
+  DirectSolver s;
+  ASSERT_FALSE(s.cheap_setup());
+  NewtonMemory memory;
+  const Eigen::VectorXd a0 = p.a_;
+  for (int k = 0; k < 6; ++k) {
+    p.a_ = a0 * (1.0 + 0.15 * k);
+    ASSERT_TRUE(solve_newton(p, s, NewtonSettings{.modified_newton = true}, k > 0, &memory).converged);
+  }
+  EXPECT_GT(memory.kept_ratio, 1e-2);
+  EXPECT_EQ(p.with_residual, 0);
+}
 
 TEST(Newton, InexactNewtonConvergesAsFarAsExactNewtonWithFewerLinearIterations) {
   KrylovSolver s(Preconditioner::ilu, LinearSolverSettings{});

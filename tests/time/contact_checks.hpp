@@ -102,7 +102,7 @@ TaylorOrder reduced_tangent_order(ContactRun<D>& run, const std::vector<int>* no
 /// their motion directions μ, scaled by the constraint rows' residual c)
 /// vanish there. Along three random directions over the unknowns of
 /// `nodes` (every free one if null) and the method's own unknowns;
-/// prescribed rows left out. Steps from 1e-6 of the model's size, halved 8
+/// prescribed rows left out. Steps from 1e-6 of the model's size, halved 7
 /// times (the remainders stay above the forces' round-off). Prints each
 /// direction's test and returns the worst.
 template <int D>
@@ -157,7 +157,7 @@ TaylorOrder system_tangent_order(ContactRun<D>& run, const std::vector<int>* nod
     for (Eigen::Index i = 0; i < n; ++i)
       if (!moved[static_cast<std::size_t>(i)]) q[i] = 0.0;
     const TaylorOrder t = taylor_order(residual_after, Eigen::VectorXd::Zero(n), q, without_prescribed(A * q),
-                                       1e-6 * model.size(), 8);
+                                       1e-6 * model.size(), 7);
     std::printf("[ measured ] system tangent (%lld equations), direction %d: %s\n", static_cast<long long>(n), k + 1,
                 describe(t).c_str());
     worst = k == 0 ? t : worse(t, worst);

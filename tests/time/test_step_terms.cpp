@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 
+#include "material/neo_hookean.hpp"
 #include "material/svk_law.hpp"
 #include "model/initial_state.hpp"
 #include "support/grid_mesh.hpp"
@@ -199,6 +201,55 @@ TEST(StepTerms, StepProblemSumsATermAddedFromOutside) {
   EXPECT_LT((r1 - r0 - spring).norm(), 1e-12 * r1.norm());
   const Eigen::MatrixXd dK = K1 - K0;
   EXPECT_LT((dK - k * Eigen::MatrixXd::Identity(dK.rows(), dK.cols())).norm(), 1e-12 * K1.norm());
+}
+
+// StepProblem::prepare_tangent: the residual that assembles the tangent in
+// the same pass gives the same bits, residual and tangent, as the two
+// passes; an update in between leaves the tangent to be assembled anew.
+TEST(StepTerms, ResidualWithItsTangentInOnePassIsTheSameBits) {
+  for (const bool svk : {true, false}) {
+    SCOPED_TRACE(svk ? "SVK" : "neo-Hookean");
+    Fixture f;
+    if (!svk)
+      f.model.bodies[0].law =
+          std::make_shared<const material::NeoHookean>(material::Lame::from_young_poisson(5.0e4, 0.3));
+    const assembly::DirichletMask mask(f.assembler->mass(), {});
+    StepTerms<3> terms = elastodynamic_terms(*f.assembler, fem::StressScheme::conserving);
+    for (const auto& term : terms) term->begin(f.start, Fixture::dt);
+    Eigen::VectorXd u = f.u_np1, r0, r1;
+    SparseMatrix K = f.assembler->pattern().make_matrix();
+    StepProblem<3> problem(*f.assembler, mask, terms, f.start, Fixture::dt, u, K);
+    problem.residual(r0);
+    const double floor0 = problem.residual_floor();
+    const SparseMatrix K0 = problem.tangent();
+    ASSERT_GT(K0.norm(), 0.0);
+    problem.prepare_tangent();
+    problem.residual(r1);
+    EXPECT_EQ(0, std::memcmp(r0.data(), r1.data(), sizeof(double) * static_cast<std::size_t>(r0.size())));
+    EXPECT_EQ(floor0, problem.residual_floor());
+    const SparseMatrix K1 = problem.tangent();
+    ASSERT_EQ(K0.nonZeros(), K1.nonZeros());
+    EXPECT_EQ(0, std::memcmp(K0.valuePtr(), K1.valuePtr(), sizeof(double) * static_cast<std::size_t>(K0.nonZeros())));
+    // The tangent at that iterate is not assembled a second time.
+    problem.prepare_tangent();
+    problem.residual(r1);
+    std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), -1.0);
+    const SparseMatrix& K_again = problem.tangent();
+    EXPECT_EQ(-1.0, K_again.valuePtr()[0]);
+    // An update between the residual and the tangent: the tangent is that
+    // of the new iterate, as without the hint.
+    const Eigen::VectorXd step = 1e-4 * Eigen::VectorXd::Ones(u.size());
+    problem.prepare_tangent();
+    problem.residual(r1);
+    problem.update(step);
+    const SparseMatrix K2 = problem.tangent();
+    Eigen::VectorXd u2 = f.u_np1 + step;
+    SparseMatrix Kref = f.assembler->pattern().make_matrix();
+    StepProblem<3> reference(*f.assembler, mask, terms, f.start, Fixture::dt, u2, Kref);
+    const SparseMatrix K3 = reference.tangent();
+    EXPECT_GT((Eigen::MatrixXd(K2) - Eigen::MatrixXd(K0)).norm(), 0.0);
+    EXPECT_EQ(0, std::memcmp(K2.valuePtr(), K3.valuePtr(), sizeof(double) * static_cast<std::size_t>(K3.nonZeros())));
+  }
 }
 
 }  // namespace
