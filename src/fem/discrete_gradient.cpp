@@ -26,7 +26,8 @@ AlgorithmicStress discrete_gradient(const material::Law& law, const Mat3& C_n, c
   const Vec9 C4d = C4 * d;
   const Mat3 w = 0.5 * (law.stress(C_np1) - law.stress(C_mid)) - 0.125 * Eigen::Map<const Mat3>(C4d.data());
   const double k = 2.0 / dCdC;
-  a.dS += k * (d * Eigen::Map<const Vec9>(w.data()).transpose() + r * material::symmetric_product(Mat3::Identity()) -
+  static const material::Mat9 identity = material::symmetric_product(Mat3::Identity());
+  a.dS += k * (d * Eigen::Map<const Vec9>(w.data()).transpose() + r * identity -
                (2.0 * r / dCdC) * d * d.transpose());
   return a;
 }

@@ -138,6 +138,11 @@ void svk_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, 
 // ½δF_{n+1}, δC_G = G ᵀe_k a_Bᵀ + a_B e_kᵀG (ΔC's variation through G, see
 // law_state), δS = dS : δC_G, and
 //   δf_A = V [ ½ e_k (a_B·S a_A) + F_{n+½} δS a_A ].
+// dS maps symmetric to symmetric with symmetric columns (ℂ's minor
+// symmetry; the discrete gradient's terms in ΔC, w and 1 keep it), so
+// dS : δC_G = 2 dS : (G_k ⊗ a_B), G_k the k-th row of G: with
+//   U_ij = V F_{n+½} mat(dS(:, i + 3j)) ∇N   (D × (D+1), over i, j < D),
+// δf(B, k) = 2 Σ_ij G_ki a_Bj U_ij, fixed-size products only.
 template <int D>
 void law_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
                        const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
@@ -145,17 +150,27 @@ void law_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, co
   f = force_of_state<D>(g, s.state);
   const double V = g.volume;
   const Eigen::Matrix<double, D + 1, D + 1> aSa = g.grad.transpose() * (s.state.S * g.grad);
-  for (int B = 0; B <= D; ++B)
-    for (int k = 0; k < D; ++k) {
-      Mat3 dC = Mat3::Zero();
-      const Vec<D> Gk = s.state.G.row(k).transpose();
-      dC.template topLeftCorner<D, D>() = Gk * g.grad.col(B).transpose() + g.grad.col(B) * Gk.transpose();
-      Mat3 dS;
-      Eigen::Map<Eigen::Matrix<double, 9, 1>>(dS.data()) = s.dS * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dC.data());
-      const NodeMatrix<D> df = V * (s.state.F_mid * dS.template topLeftCorner<D, D>() * g.grad);
+  const Mat<D> VF = V * s.state.F_mid;
+  NodeMatrix<D> U[D][D];
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) {
+      const Eigen::Map<const Mat3> column(s.dS.col(i + 3 * j).data());
+      U[i][j].noalias() = (VF * column.template topLeftCorner<D, D>()) * g.grad;
+    }
+  for (int k = 0; k < D; ++k) {
+    // T_j = 2 Σ_i G_ki U_ij: then δf(B, k) = Σ_j a_Bj T_j.
+    NodeMatrix<D> T[D];
+    for (int j = 0; j < D; ++j) {
+      T[j] = (2.0 * s.state.G(k, 0)) * U[0][j];
+      for (int i = 1; i < D; ++i) T[j] += (2.0 * s.state.G(k, i)) * U[i][j];
+    }
+    for (int B = 0; B <= D; ++B) {
+      NodeMatrix<D> df = g.grad(0, B) * T[0];
+      for (int j = 1; j < D; ++j) df += g.grad(j, B) * T[j];
       for (int A = 0; A <= D; ++A)
         for (int i = 0; i < D; ++i) K(A * D + i, B * D + k) = df(i, A) + (i == k ? 0.5 * V * aSa(A, B) : 0.0);
     }
+  }
 }
 
 }  // namespace

@@ -34,7 +34,9 @@ Mat3 adjugate(const Mat3& A) {
 }  // namespace
 
 double log_det_ratio(const Mat3& C, const Mat3& dC) {
-  const double change = (adjugate(C) * dC).trace() + (C * adjugate(dC)).trace() + dC.determinant();
+  // tr(adj(C) ΔC) + tr(C adj(ΔC)) + det ΔC, the traces as sums of entries.
+  const double change = adjugate(C).cwiseProduct(dC.transpose()).sum() +
+                        C.cwiseProduct(adjugate(dC).transpose()).sum() + dC.determinant();
   return std::log1p(change / C.determinant());
 }
 
