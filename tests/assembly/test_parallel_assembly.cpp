@@ -161,5 +161,42 @@ TEST(ParallelAssembly, AddsTheForceOntoWhatIsThere) {
   set_threads(threads_before);
 }
 
+/// Assembler::measures: one pass gives the same bits as step_start,
+/// strain_energy, min_det_F and the force at rest, on any number of
+/// threads; asked again for the same u it is not computed again, for
+/// another u it is.
+TEST(ParallelAssembly, MeasuresOfAStateAreTheSeparatePassesBits) {
+  const model::Model<3> model = large_model<3>();
+  const Assembler<3> assembler(model, false);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> dist(-0.02, 0.02);
+  Eigen::VectorXd u(model.num_dofs()), v(model.num_dofs());
+  for (int i = 0; i < model.num_dofs(); ++i) u[i] = dist(rng), v[i] = dist(rng);
+  const int threads_before = threads();
+  for (int n : {1, 2}) {
+    if (!set_threads(n) && n > 1) GTEST_SKIP() << "built without OpenMP: one thread only";
+    const auto& m = assembler.measures(u);
+    const auto start = assembler.step_start(u);
+    Eigen::VectorXd f;
+    assembler.internal_force(start, u, fem::StressScheme::conserving, f);
+    ASSERT_GT(f.norm(), 0.0);
+    EXPECT_EQ(bits(m.force_norm), bits(f.norm())) << n << " threads";
+    EXPECT_EQ(bits(m.strain_energy), bits(assembler.strain_energy(u))) << n << " threads";
+    const Orientation o = assembler.min_det_F(u);
+    EXPECT_EQ(bits(m.orientation.det_F), bits(o.det_F)) << n << " threads";
+    EXPECT_EQ(m.orientation.cell, o.cell);
+    ASSERT_EQ(m.cells->size(), start.size());
+    for (std::size_t c = 0; c < start.size(); ++c) {
+      ASSERT_TRUE(same_bits((*m.cells)[c].F.data(), start[c].F.data(), 9)) << "cell " << c;
+      ASSERT_TRUE(same_bits((*m.cells)[c].E.data(), start[c].E.data(), 9)) << "cell " << c;
+    }
+    const auto kept = m.cells;
+    EXPECT_EQ(assembler.measures(u).cells, kept);  // the same u: kept
+    EXPECT_NE(assembler.measures(v).cells, kept);  // another: computed
+    EXPECT_EQ(bits(assembler.measures(v).strain_energy), bits(assembler.strain_energy(v)));
+  }
+  set_threads(threads_before);
+}
+
 }  // namespace
 }  // namespace conserve::assembly

@@ -510,6 +510,7 @@ TEST(Newton, AKeptTangentThatContractsSlowlyIsReplacedWithTheNextResidual) {
       with_residual[replace] += p.with_residual;
       p.with_residual = p.alone = 0;
       if (k == 1) {
+        std::printf("[ measured ] the kept tangent's first contraction: %.3g\n", memory.kept_ratio);
         EXPECT_GT(memory.kept_ratio, 1e-2);  // the kept tangent contracts slowly
         EXPECT_LT(memory.kept_ratio, 0.25);  // but fast enough for the reuse rule
       }

@@ -179,13 +179,27 @@ class Spring final : public StepTerm<3> {
   Eigen::VectorXd u_n_;
 };
 
+/// The fixture's elastodynamic terms begun at its start, no prescribed
+/// dofs, and a matrix of the tangent's pattern.
+struct Begun {
+  explicit Begun(const Fixture& f)
+      : mask(f.assembler->mass(), {}),
+        terms(elastodynamic_terms(*f.assembler, fem::StressScheme::conserving)),
+        K(f.assembler->pattern().make_matrix()) {
+    for (const auto& term : terms) term->begin(f.start, Fixture::dt);
+  }
+  assembly::DirichletMask mask;
+  StepTerms<3> terms;
+  SparseMatrix K;
+};
+
 TEST(StepTerms, StepProblemSumsATermAddedFromOutside) {
   Fixture f;
-  const assembly::DirichletMask mask(f.assembler->mass(), {});
-  StepTerms<3> terms = elastodynamic_terms(*f.assembler, fem::StressScheme::conserving);
-  for (const auto& term : terms) term->begin(f.start, Fixture::dt);
+  Begun b(f);
+  const assembly::DirichletMask& mask = b.mask;
+  StepTerms<3>& terms = b.terms;
+  SparseMatrix& K = b.K;
   Eigen::VectorXd u = f.u_np1, r0, r1;
-  SparseMatrix K = f.assembler->pattern().make_matrix();
   StepProblem<3> plain(*f.assembler, mask, terms, f.start, Fixture::dt, u, K);
   plain.residual(r0);
   const Eigen::MatrixXd K0(plain.tangent());
@@ -213,12 +227,10 @@ TEST(StepTerms, ResidualWithItsTangentInOnePassIsTheSameBits) {
     if (!svk)
       f.model.bodies[0].law =
           std::make_shared<const material::NeoHookean>(material::Lame::from_young_poisson(5.0e4, 0.3));
-    const assembly::DirichletMask mask(f.assembler->mass(), {});
-    StepTerms<3> terms = elastodynamic_terms(*f.assembler, fem::StressScheme::conserving);
-    for (const auto& term : terms) term->begin(f.start, Fixture::dt);
+    Begun b(f);
     Eigen::VectorXd u = f.u_np1, r0, r1;
-    SparseMatrix K = f.assembler->pattern().make_matrix();
-    StepProblem<3> problem(*f.assembler, mask, terms, f.start, Fixture::dt, u, K);
+    SparseMatrix& K = b.K;
+    StepProblem<3> problem(*f.assembler, b.mask, b.terms, f.start, Fixture::dt, u, K);
     problem.residual(r0);
     const double floor0 = problem.residual_floor();
     const SparseMatrix K0 = problem.tangent();
@@ -245,7 +257,7 @@ TEST(StepTerms, ResidualWithItsTangentInOnePassIsTheSameBits) {
     const SparseMatrix K2 = problem.tangent();
     Eigen::VectorXd u2 = f.u_np1 + step;
     SparseMatrix Kref = f.assembler->pattern().make_matrix();
-    StepProblem<3> reference(*f.assembler, mask, terms, f.start, Fixture::dt, u2, Kref);
+    StepProblem<3> reference(*f.assembler, b.mask, b.terms, f.start, Fixture::dt, u2, Kref);
     const SparseMatrix K3 = reference.tangent();
     EXPECT_GT((Eigen::MatrixXd(K2) - Eigen::MatrixXd(K0)).norm(), 0.0);
     EXPECT_EQ(0, std::memcmp(K2.valuePtr(), K3.valuePtr(), sizeof(double) * static_cast<std::size_t>(K3.nonZeros())));
