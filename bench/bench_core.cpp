@@ -80,7 +80,7 @@ BENCHMARK(BM_AssembleForceTangent)->Unit(benchmark::kMillisecond);
 void BM_NewtonIteration(benchmark::State& st) {
   BoxProblem& p = BoxProblem::get();
   const double dt = 1e-3;
-  assembly::DirichletMask mask(p.assembler->mass(), {});
+  assembly::DirichletMask mask(p.assembler->pattern().make_matrix(), {});
   SparseMatrix K = p.assembler->pattern().make_matrix();
   solver::LinearSolverSettings settings;
   settings.method = st.range(0) == 0 ? solver::Method::direct : solver::Method::krylov;

@@ -34,22 +34,18 @@ std::vector<double> per_cell(int num_cells, const Value& value) {
 template <int D>
 Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
     : model_(model),
-      pattern_(model.num_nodes(), model.cells),
-      mass_(pattern_.make_matrix()) {
-  double* values = mass_.valuePtr();
+      pattern_(model.num_nodes(), model.cells) {
   std::vector<Eigen::Triplet<double>> node_entries;
   node_entries.reserve(static_cast<std::size_t>(model.num_cells()) * (D + 1) * (D + 1));
   for (int c = 0; c < model.num_cells(); ++c) {
     const double density = model.bodies[model.cell_body[c]].density;
     const auto Me = fem::element_mass<D>(density, model.geometry[c].volume, lumped_mass);
     for (int b = 0; b <= D; ++b)
-      for (int a = 0; a <= D; ++a) {
-        for (int i = 0; i < D; ++i) values[pattern_.position(c, a, b, i, i)] += Me(a, b);
+      for (int a = 0; a <= D; ++a)
         if (Me(a, b) != 0.0) node_entries.emplace_back(model.cells(a, c), model.cells(b, c), Me(a, b));
-      }
   }
   node_mass_.resize(model.num_nodes(), model.num_nodes());
-  node_mass_.setFromTriplets(node_entries.begin(), node_entries.end());  // sums in cell order, as above
+  node_mass_.setFromTriplets(node_entries.begin(), node_entries.end());  // sums in cell order
   Eigen::VectorXd g(model.num_dofs());
   for (int n = 0; n < model.num_nodes(); ++n) g.segment<D>(n * D) = model.gravity;
   gravity_force_ = mass_times(g);
@@ -65,6 +61,11 @@ Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
       displacement_stiffness_.segment<D>(model.cells(a, c) * D).array() += geometry.volume * modulus * grad * grad;
     }
   }
+}
+
+template <int D>
+void Assembler<D>::add_mass(double c, SparseMatrix& K) const {
+  pattern_.add_identity_blocks(c, node_mass_, K.valuePtr());
 }
 
 template <int D>

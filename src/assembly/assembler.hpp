@@ -35,15 +35,17 @@ class Assembler {
   /// threads (one part below kMinParallelCells cells); remade when that
   /// number changes.
   [[nodiscard]] const NodePartition& partition() const;
-  /// M_AB ⊗ 1, with the pattern of the tangent [kg].
-  [[nodiscard]] const SparseMatrix& mass() const { return mass_; }
-  /// M x for a node-major vector x: the nodes' scalar mass matrix M_AB
-  /// applied to each of the D components (1/D² of mass()'s entries to read).
+  /// The nodes' scalar mass matrix M_AB [kg], nodes × nodes: the dofs'
+  /// mass matrix is M_AB ⊗ I_D, which is not stored.
+  [[nodiscard]] const SparseMatrix& node_mass() const { return node_mass_; }
+  /// M x for a node-major vector x: M_AB applied to each of the D components.
   [[nodiscard]] Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const;
+  /// K += c M for K with the pattern's layout.
+  void add_mass(double c, SparseMatrix& K) const;
   /// Constant external force from gravity, f_A = Σ_B M_AB g [N].
   [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
 
-  /// Each cell's F_n and E_n at the start u_n of a step: what every
+  /// Each cell's F_n at the start u_n of a step: what every
   /// residual and tangent of the step shares (cell order).
   using StepStart = std::vector<fem::CellStart<D>>;
   [[nodiscard]] StepStart step_start(const Eigen::VectorXd& u_n) const;
@@ -134,7 +136,6 @@ class Assembler {
   mutable StateMeasures measures_;  ///< measures() of measured_u_
   mutable Eigen::VectorXd measured_u_;
   mutable std::vector<Scratch> scratch_;
-  SparseMatrix mass_;
   SparseMatrix node_mass_;  ///< M_AB, nodes × nodes
   Eigen::VectorXd gravity_force_;
   Eigen::VectorXd stiffness_scale_;

@@ -7,35 +7,54 @@ namespace conserve::assembly {
 template <int D>
 BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
                               const std::vector<std::pair<int, int>>& extra)
-    : cells_(cells), neighbours_(num_nodes) {
-  for (int c = 0; c < cells.cols(); ++c)
-    for (int a = 0; a <= D; ++a)
-      for (int b = 0; b <= D; ++b) neighbours_[cells(b, c)].push_back(cells(a, c));
-  for (const auto& [p, q] : extra) {
-    neighbours_[p].push_back(q);
-    neighbours_[q].push_back(p);
-  }
-  for (int n = 0; n < num_nodes; ++n) {
-    auto& nb = neighbours_[n];
-    nb.push_back(n);  // every node keeps its diagonal block, even if isolated
-    std::sort(nb.begin(), nb.end());
-    nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
-  }
-  outer_.assign(num_nodes * D + 1, 0);
-  for (int n = 0; n < num_nodes; ++n)
-    for (int k = 0; k < D; ++k) outer_[n * D + k + 1] = outer_[n * D + k] + static_cast<int>(neighbours_[n].size()) * D;
-  inner_.reserve(outer_.back());
-  for (int n = 0; n < num_nodes; ++n)
-    for (int k = 0; k < D; ++k)
-      for (int m : neighbours_[n])
-        for (int i = 0; i < D; ++i) inner_.push_back(m * D + i);
-  rank_.resize(cells.cols() * (D + 1) * (D + 1));
-  for (int c = 0; c < cells.cols(); ++c)
+    : cells_(cells) {
+  // Each node's neighbours with repeats (its cells' nodes, the extra pairs
+  // and itself: every node keeps its diagonal block, even if isolated),
+  // bucketed by counting, then sorted and made unique in place.
+  const auto nodes = static_cast<std::size_t>(num_nodes);
+  std::vector<std::size_t> start(nodes + 1, 0);
+  for (Eigen::Index c = 0; c < cells.cols(); ++c)
+    for (int b = 0; b <= D; ++b) start[static_cast<std::size_t>(cells(b, c)) + 1] += D + 1;
+  for (const auto& [p, q] : extra) ++start[static_cast<std::size_t>(p) + 1], ++start[static_cast<std::size_t>(q) + 1];
+  for (std::size_t n = 0; n < nodes; ++n) start[n + 1] += start[n] + 1;
+  std::vector<int> all(start[nodes]);
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for (std::size_t n = 0; n < nodes; ++n) all[next[n]++] = static_cast<int>(n);
+  for (Eigen::Index c = 0; c < cells.cols(); ++c)
     for (int b = 0; b <= D; ++b) {
-      const auto& nb = neighbours_[cells(b, c)];
+      const auto B = static_cast<std::size_t>(cells(b, c));
+      for (int a = 0; a <= D; ++a) all[next[B]++] = cells(a, c);
+    }
+  for (const auto& [p, q] : extra) {
+    all[next[static_cast<std::size_t>(p)]++] = q;
+    all[next[static_cast<std::size_t>(q)]++] = p;
+  }
+  std::vector<int> count(nodes);
+#pragma omp parallel for schedule(dynamic, 4096) if (nodes >= 65536)
+  for (std::ptrdiff_t n = 0; n < static_cast<std::ptrdiff_t>(nodes); ++n) {
+    const auto first = all.begin() + static_cast<std::ptrdiff_t>(start[n]);
+    const auto last = all.begin() + static_cast<std::ptrdiff_t>(start[n + 1]);
+    std::sort(first, last);
+    count[n] = static_cast<int>(std::unique(first, last) - first);
+  }
+  offsets_.assign(nodes + 1, 0);
+  for (std::size_t n = 0; n < nodes; ++n) offsets_[n + 1] = offsets_[n] + count[n];
+  neighbours_.resize(static_cast<std::size_t>(offsets_[nodes]));
+  for (std::size_t n = 0; n < nodes; ++n)
+    std::copy_n(all.begin() + static_cast<std::ptrdiff_t>(start[n]), count[n], neighbours_.begin() + offsets_[n]);
+  all = {};
+  outer_.assign(nodes * D + 1, 0);
+  for (std::size_t n = 0; n < nodes; ++n)
+    for (int k = 0; k < D; ++k) outer_[n * D + k + 1] = outer_[n * D + k] + count[n] * D;
+  rank_.resize(static_cast<std::size_t>(cells.cols()) * (D + 1) * (D + 1));
+#pragma omp parallel for schedule(static) if (cells.cols() >= 65536)
+  for (Eigen::Index c = 0; c < cells.cols(); ++c)
+    for (int b = 0; b <= D; ++b) {
+      const int B = cells(b, c);
+      const auto first = neighbours_.begin() + offsets_[B], last = neighbours_.begin() + offsets_[B + 1];
       for (int a = 0; a <= D; ++a)
-        rank_[(c * (D + 1) + b) * (D + 1) + a] =
-            static_cast<int>(std::lower_bound(nb.begin(), nb.end(), cells(a, c)) - nb.begin());
+        rank_[static_cast<std::size_t>((c * (D + 1) + b) * (D + 1) + a)] =
+            static_cast<int>(std::lower_bound(first, last, cells(a, c)) - first);
     }
 }
 
@@ -43,19 +62,38 @@ template <int D>
 SparseMatrix BlockPattern<D>::make_matrix() const {
   const int n = num_dofs();
   SparseMatrix A(n, n);
-  A.resizeNonZeros(static_cast<Eigen::Index>(inner_.size()));
+  A.resizeNonZeros(static_cast<Eigen::Index>(non_zeros()));
   std::copy(outer_.begin(), outer_.end(), A.outerIndexPtr());
-  std::copy(inner_.begin(), inner_.end(), A.innerIndexPtr());
-  std::fill(A.valuePtr(), A.valuePtr() + inner_.size(), 0.0);
+  int* inner = A.innerIndexPtr();
+  for (int B = 0; B < n / D; ++B)
+    for (int k = 0; k < D; ++k)
+      for (int p = offsets_[B]; p < offsets_[B + 1]; ++p)
+        for (int i = 0; i < D; ++i) *inner++ = neighbours_[static_cast<std::size_t>(p)] * D + i;
+  std::fill(A.valuePtr(), A.valuePtr() + non_zeros(), 0.0);
   return A;
 }
 
 template <int D>
+void BlockPattern<D>::add_identity_blocks(double c, const SparseMatrix& N, double* values) const {
+  const int nodes = static_cast<int>(offsets_.size()) - 1;
+#pragma omp parallel for schedule(static) if (nodes >= 65536)
+  for (int B = 0; B < nodes; ++B) {
+    // N's column B and B's neighbours are both in increasing node order.
+    int rank = 0;
+    for (SparseMatrix::InnerIterator it(N, B); it; ++it) {
+      while (neighbours_[static_cast<std::size_t>(offsets_[B] + rank)] != it.row()) ++rank;
+      const double value = c * it.value();
+      for (int k = 0; k < D; ++k) values[outer_[B * D + k] + rank * D + k] += value;
+    }
+  }
+}
+
+template <int D>
 int BlockPattern<D>::find(int row, int col) const {
-  const auto first = inner_.begin() + outer_[col];
-  const auto last = inner_.begin() + outer_[col + 1];
-  const auto it = std::lower_bound(first, last, row);
-  return (it != last && *it == row) ? static_cast<int>(it - inner_.begin()) : -1;
+  const int B = col / D, A = row / D;
+  const auto first = neighbours_.begin() + offsets_[B], last = neighbours_.begin() + offsets_[B + 1];
+  const auto it = std::lower_bound(first, last, A);
+  return (it != last && *it == A) ? outer_[col] + static_cast<int>(it - first) * D + row % D : -1;
 }
 
 template class BlockPattern<2>;

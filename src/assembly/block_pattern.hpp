@@ -41,7 +41,7 @@ class BlockPattern {
       const int B = cells_(b, cell);
       const int* rank = &rank_[static_cast<std::size_t>(cell * (D + 1) + b) * (D + 1)];
       const int column = outer_[static_cast<std::size_t>(B) * D];
-      const int height = outer_[B * D + 1] - column;  // the columns of node B are equally long
+      const int height = D * (offsets_[B + 1] - offsets_[B]);  // the columns of node B are equally long
       double* block[D + 1];
       for (int a = 0; a <= D; ++a) block[a] = values + (column + rank[a] * D);
       for (int k = 0; k < D; ++k) {
@@ -52,17 +52,24 @@ class BlockPattern {
     }
   }
 
+  /// values += c (N ⊗ I_D) for a nodes × nodes matrix N whose entries the
+  /// pattern holds (the mass matrix M_AB).
+  void add_identity_blocks(double c, const SparseMatrix& N, double* values) const;
+
   /// Index of entry (row dof r, column dof c), or −1 if not in the pattern.
   [[nodiscard]] int find(int row, int col) const;
 
   [[nodiscard]] int num_dofs() const { return static_cast<int>(outer_.size()) - 1; }
+  [[nodiscard]] std::size_t non_zeros() const { return static_cast<std::size_t>(outer_.back()); }
 
  private:
+  // The row indices are not kept: column B·D+k holds the D rows of each of
+  // B's neighbours in turn, so make_matrix() and find() derive them.
   Eigen::MatrixXi cells_;
-  std::vector<int> outer_;                    ///< column starts (CSC)
-  std::vector<int> inner_;                    ///< row indices
-  std::vector<std::vector<int>> neighbours_;  ///< sorted neighbour nodes per node
-  std::vector<int> rank_;                     ///< per cell, per (b, a): rank of A among B's neighbours
+  std::vector<int> outer_;       ///< column starts (CSC)
+  std::vector<int> offsets_;     ///< node B's neighbours are neighbours_[offsets_[B] .. offsets_[B+1])
+  std::vector<int> neighbours_;  ///< sorted, each node among its own
+  std::vector<int> rank_;        ///< per cell, per (b, a): rank of A among B's neighbours
 };
 
 }  // namespace conserve::assembly

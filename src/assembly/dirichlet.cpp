@@ -6,9 +6,7 @@ namespace conserve::assembly {
 
 DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs)
     : dofs_(dofs),
-      fixed_(static_cast<std::size_t>(A.cols()), 0),
-      outer_(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1),
-      inner_(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros()) {
+      fixed_(static_cast<std::size_t>(A.cols()), 0) {
   for (int d : dofs) fixed_[static_cast<std::size_t>(d)] = 1;
   const std::vector<char>& fixed = fixed_;
   for (int col = 0; col < A.cols(); ++col)
@@ -19,13 +17,6 @@ DirichletMask::DirichletMask(const SparseMatrix& A, const std::vector<int>& dofs
       else if (fixed[row] || fixed[col])
         zero_positions_.push_back(p);
     }
-}
-
-bool DirichletMask::fits(const SparseMatrix& A) const {
-  return static_cast<Eigen::Index>(outer_.size()) == A.outerSize() + 1 &&
-         static_cast<Eigen::Index>(inner_.size()) == A.nonZeros() &&
-         std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
-         std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
 }
 
 void DirichletMask::apply(SparseMatrix& K, double diagonal) const {

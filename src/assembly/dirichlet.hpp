@@ -23,15 +23,12 @@ class DirichletMask {
   [[nodiscard]] const std::vector<int>& dofs() const { return dofs_; }
   /// Whether dof d is prescribed.
   [[nodiscard]] bool masked(int d) const { return fixed_[static_cast<std::size_t>(d)] != 0; }
-  /// Whether A has exactly the pattern the mask was made for.
-  [[nodiscard]] bool fits(const SparseMatrix& A) const;
 
  private:
   std::vector<int> dofs_;
   std::vector<char> fixed_;  ///< per dof: prescribed
   std::vector<int> zero_positions_;
   std::vector<int> diagonal_positions_;
-  std::vector<int> outer_, inner_;  ///< the pattern the mask was made for
 };
 
 }  // namespace conserve::assembly

@@ -222,7 +222,7 @@ double own_statistic(const Method<D>& method, const StepContactStats& stats, std
 /// The method the scenario's [[contact]] `method` names, for `model` with
 /// the contact `pairs` (built from the scenario's [[contact]] tables, in
 /// order); each method reads its own keys of the scenario. `mass` is the
-/// assembler's. Throws InputError on an unknown name.
+/// assembler's node_mass() (M_AB). Throws InputError on an unknown name.
 template <int D>
 std::unique_ptr<Method<D>> make_method(const io::Scenario& scenario, const model::Model<D>& model,
                                        const SparseMatrix& mass, std::vector<ContactPair<D>> pairs);

@@ -22,7 +22,7 @@ AlgorithmicState<D> svk_state(const SimplexGeometry<D>& g, const material::Lame&
   if (scheme == StressScheme::midpoint) {
     return {F_mid, F_mid, material::svk_stress<D>(lame, material::green_lagrange<D>(F_mid))};
   }
-  const Mat<D> E_alg = 0.5 * (start.E + material::green_lagrange<D>(F_np1));
+  const Mat<D> E_alg = 0.5 * (material::green_lagrange<D>(start.F) + material::green_lagrange<D>(F_np1));
   return {F_mid, F_np1, material::svk_stress<D>(lame, E_alg)};
 }
 
@@ -69,8 +69,7 @@ NodeMatrix<D> force_of_state(const SimplexGeometry<D>& g, const AlgorithmicState
 
 template <int D>
 CellStart<D> cell_start(const SimplexGeometry<D>& g, const NodeMatrix<D>& x_n) {
-  const Mat<D> F = deformation_gradient<D>(x_n, g);
-  return {F, material::green_lagrange<D>(F)};
+  return {deformation_gradient<D>(x_n, g)};
 }
 
 template <int D>

@@ -27,12 +27,12 @@ struct StepPositions {
   NodeMatrix<D> x_np1;
 };
 
-/// What the kernels use of a cell's start of step x_n: F_n and E_n =
-/// E(F_n). Every iterate of a step shares it.
+/// What the kernels use of a cell's start of step x_n: F_n (E_n = E(F_n)
+/// is recomputed where needed: kept per cell it would double a large
+/// model's two step starts). Every iterate of a step shares it.
 template <int D>
 struct CellStart {
   Mat<D> F;
-  Mat<D> E;
 };
 
 template <int D>

@@ -107,28 +107,33 @@ std::vector<int> selected_cells(const Mesh& mesh, const std::string& group) {
 }  // namespace
 
 Eigen::MatrixXi boundary_facets(const Mesh& mesh) {
-  const int dim = mesh.dim;
-  std::unordered_map<FacetKey, int, FacetKeyHash> index;  // facet → position in `facets`
-  index.reserve(static_cast<std::size_t>(mesh.num_cells()) * static_cast<std::size_t>(dim + 1));
-  std::vector<FacetKey> facets;
-  std::vector<int> uses;
+  // Every cell's facets by their sorted nodes, sorted: a facet that comes
+  // once is on the boundary (an interior one twice). A facet is named by
+  // its use c·(dim+1) + k, and the boundary keeps the order of the uses.
+  const int dim = mesh.dim, per = dim + 1;
+  struct Use {
+    FacetKey key;
+    int use;
+  };
+  std::vector<Use> uses(static_cast<std::size_t>(mesh.num_cells()) * static_cast<std::size_t>(per));
+#pragma omp parallel for schedule(static) if (mesh.num_cells() >= 65536)
   for (int c = 0; c < mesh.num_cells(); ++c)
-    for (int k = 0; k <= dim; ++k) {
-      const FacetKey f = oriented_facet(mesh, c, k);
-      const auto [it, inserted] = index.emplace(sorted_key(f, dim), static_cast<int>(facets.size()));
-      if (inserted) {
-        facets.push_back(f);
-        uses.push_back(0);
-      }
-      ++uses[static_cast<std::size_t>(it->second)];
-    }
-  Eigen::MatrixXi out(dim, std::count(uses.begin(), uses.end(), 1));
-  Eigen::Index col = 0;
-  for (std::size_t f = 0; f < facets.size(); ++f)
-    if (uses[f] == 1) {
-      for (int i = 0; i < dim; ++i) out(i, col) = facets[f][static_cast<std::size_t>(i)];
-      ++col;
-    }
+    for (int k = 0; k < per; ++k)
+      uses[static_cast<std::size_t>(c) * per + k] = {sorted_key(oriented_facet(mesh, c, k), dim), c * per + k};
+  std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) { return a.key < b.key; });
+  std::vector<int> once;
+  for (std::size_t first = 0, last = 0; first < uses.size(); first = last) {
+    last = first + 1;
+    while (last < uses.size() && uses[last].key == uses[first].key) ++last;
+    if (last == first + 1) once.push_back(uses[first].use);
+  }
+  uses = {};
+  std::sort(once.begin(), once.end());
+  Eigen::MatrixXi out(dim, static_cast<Eigen::Index>(once.size()));
+  for (std::size_t f = 0; f < once.size(); ++f) {
+    const FacetKey facet = oriented_facet(mesh, once[f] / per, once[f] % per);
+    for (int i = 0; i < dim; ++i) out(i, static_cast<Eigen::Index>(f)) = facet[static_cast<std::size_t>(i)];
+  }
   return out;
 }
 

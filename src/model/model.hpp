@@ -93,4 +93,15 @@ std::vector<int> group_nodes(const Body& body, const std::string& group);
 /// body without cells) in the output.
 Eigen::MatrixXi distinct_facets(const Body& body);
 
+/// The mean of the diagonal of the dofs' mass matrix M_AB ⊗ I_D [kg], from
+/// the nodes' M_AB: each node's entry D times, summed in dof order.
+template <int D>
+double mean_dof_mass(const SparseMatrix& node_mass) {
+  const Eigen::VectorXd diagonal = node_mass.diagonal();
+  double sum = 0.0;
+  for (const double m : diagonal)
+    for (int i = 0; i < D; ++i) sum += m;
+  return sum / static_cast<double>(D * diagonal.size());
+}
+
 }  // namespace conserve::model

@@ -234,16 +234,20 @@ void add_prescribed(const io::Scenario& scenario, model::Model<D>& model) {
 template <int D>
 using Positions = Eigen::Matrix<double, D, Eigen::Dynamic>;
 
-/// The cells of one body binned on a uniform grid by their bounding boxes.
+/// The cells of one body that meet a box, binned on a uniform grid by their
+/// bounding boxes.
 template <int D>
 class CellGrid {
  public:
-  CellGrid(const model::Model<D>& model, const model::Body& body, const Positions<D>& x) : model_(model), x_(x) {
+  using Box = Eigen::AlignedBox<double, D>;
+  CellGrid(const model::Model<D>& model, const model::Body& body, const Positions<D>& x, const Box& within)
+      : model_(model), x_(x) {
     double extent = 0.0;
     for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) extent += box(c).sizes().maxCoeff();
     h_ = std::max(extent / std::max(body.num_cells, 1), 1e-300);
     for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) {
       const auto b = box(c);
+      if (!b.intersects(within)) continue;
       bounds_.extend(b);
       const Eigen::Array<long, D, 1> lo = key_of(b.min()), hi = key_of(b.max());
       for_each_key(lo, hi, [&](long k) { bins_[k].push_back(c); });
@@ -262,7 +266,6 @@ class CellGrid {
   }
 
  private:
-  using Box = Eigen::AlignedBox<double, D>;
   [[nodiscard]] Box box(int c) const {
     Box b;
     for (int a = 0; a <= D; ++a) b.extend(x_.col(model_.cells(a, c)));
@@ -311,7 +314,16 @@ void check_overlaps(const io::Scenario& scenario, const model::Model<D>& model, 
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     const model::Body& host = model.bodies[b];
     if (host.num_cells == 0) continue;
-    const CellGrid<D> grid(model, host, x);
+    // Only the other bodies' nodes within the host's box can be inside it:
+    // its cells that meet their box are binned, none if there are none.
+    typename CellGrid<D>::Box host_box, probes;
+    for (int n = host.first_node; n < host.first_node + host.num_nodes; ++n) host_box.extend(x.col(n));
+    for (std::size_t a = 0; a < model.bodies.size(); ++a)
+      if (a != b)
+        for (int n = model.bodies[a].first_node; n < model.bodies[a].first_node + model.bodies[a].num_nodes; ++n)
+          if (host_box.contains(x.col(n))) probes.extend(x.col(n));
+    if (probes.isEmpty()) continue;
+    const CellGrid<D> grid(model, host, x, probes);
     for (std::size_t a = 0; a < model.bodies.size(); ++a) {
       if (a == b) continue;
       const model::Body& guest = model.bodies[a];

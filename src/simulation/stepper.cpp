@@ -40,7 +40,7 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
       assembler_(std::make_unique<assembly::Assembler<D>>(problem_.model, scenario.time.mass == io::MassKind::lumped)),
       pairs_(make_contact_pairs<D>(scenario, problem_.model)),
       contact_(pairs_.empty() ? nullptr
-                              : contact::make_method<D>(scenario, problem_.model, assembler_->mass(), pairs_)),
+                              : contact::make_method<D>(scenario, problem_.model, assembler_->node_mass(), pairs_)),
       integrator_(std::make_unique<time::Integrator<D>>(*assembler_, stress_scheme(scenario.time.scheme),
                                                          newton_settings(scenario.newton, scenario.solver),
                                                          contact_.get(), scenario.active_set.max_passes,

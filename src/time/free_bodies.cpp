@@ -35,7 +35,7 @@ template <int D>
 FreeBodies<D>::FreeBodies(const assembly::Assembler<D>& assembler)
     : assembler_(assembler), body_of_node_(static_cast<std::size_t>(assembler.model().num_nodes()), -1) {
   const auto& model = assembler.model();
-  const SparseMatrix& M = assembler.mass();
+  const SparseMatrix& M = assembler.node_mass();
   for (std::size_t b = 0; b < model.free_bodies.size(); ++b) {
     const model::FreeBody& fb = model.free_bodies[b];
     Body body;
@@ -46,14 +46,10 @@ FreeBodies<D>::FreeBodies(const assembly::Assembler<D>& assembler)
       body_of_node_[static_cast<std::size_t>(fb.first_node + n)] = static_cast<int>(b);
       body.arm.push_back(lift<D>(model.X.col(fb.first_node + n)) - centre);
     }
-    // M_AB from the first component's block (the assembler's mass is M_AB ⊗ 1).
     body.mass_columns.resize(static_cast<std::size_t>(fb.num_nodes));
     for (int n = 0; n < fb.num_nodes; ++n) {
-      const int column = (fb.first_node + n) * D;
-      for (SparseMatrix::InnerIterator it(M, column); it; ++it) {
-        const int row = static_cast<int>(it.row());
-        if (row % D != 0) continue;
-        const int a = row / D - fb.first_node;
+      for (SparseMatrix::InnerIterator it(M, fb.first_node + n); it; ++it) {
+        const int a = static_cast<int>(it.row()) - fb.first_node;
         if (a < 0 || a >= fb.num_nodes) continue;
         body.mass_columns[static_cast<std::size_t>(n)].emplace_back(a, it.value());
         const Vec3& ra = body.arm[static_cast<std::size_t>(a)];

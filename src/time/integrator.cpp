@@ -17,13 +17,13 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
                           const solver::LinearSolverSettings& linear)
     : assembler_(assembler),
       newton_(newton),
-      mask_(assembler.mass(), assembler.model().held_dofs()),
       K_(assembler.pattern().make_matrix()),
       terms_(elastodynamic_terms(assembler, scheme)),
       contact_(contact && !contact->collisions().empty() ? contact : nullptr),
       bodies_(assembler),
       max_passes_(max_passes),
       solver_(solver::make_linear_solver(linear, assembler.model().num_dofs())) {
+  mask_ = assembly::DirichletMask(K_, assembler.model().held_dofs());
   solver_->set_timings(&timings_);
   solver_->set_coordinates(assembler.model().X);
 }

@@ -25,9 +25,7 @@ void Inertia<D>::add_value(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g, Eig
 
 template <int D>
 void Inertia<D>::add_derivative(const Eigen::VectorXd&, SparseMatrix& K) {
-  const SparseMatrix& M = assembler_.mass();  // the tangent's pattern
-  Eigen::Map<Eigen::VectorXd>(K.valuePtr(), K.nonZeros()) +=
-      c_ * Eigen::Map<const Eigen::VectorXd>(M.valuePtr(), M.nonZeros());
+  assembler_.add_mass(c_, K);
 }
 
 template <int D>

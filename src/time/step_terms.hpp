@@ -99,7 +99,7 @@ class InternalForce final : public StepTerm<D> {
   void add_round_off(const Eigen::VectorXd& u_np1, Eigen::VectorXd& magnitude) const;
   const assembly::Assembler<D>& assembler_;
   fem::StressScheme scheme_;
-  std::shared_ptr<const typename assembly::Assembler<D>::StepStart> cells_n_;  ///< each cell's F_n, E_n
+  std::shared_ptr<const typename assembly::Assembler<D>::StepStart> cells_n_;  ///< each cell's F_n
   double start_force_ = 0.0, stored_ = 0.0;
 };
 

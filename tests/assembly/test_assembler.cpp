@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unsupported/Eigen/KroneckerProduct>
 
 #include <cstdio>
 #include <random>
@@ -63,8 +64,9 @@ void check_mass(bool lumped) {
   double total = 0.0;
   for (const auto& g : model.geometry) total += g.volume;
   const double expected = D * (1200.0 + 800.0) * total / 2.0;  // two equal bodies, D components
-  EXPECT_NEAR(Eigen::MatrixXd(assembler.mass()).sum(), expected, 1e-12 * expected);
-  if (lumped) EXPECT_NEAR(assembler.mass().diagonal().sum(), expected, 1e-12 * expected);
+  const Eigen::MatrixXd M(assembler.node_mass());
+  EXPECT_NEAR(D * M.sum(), expected, 1e-12 * expected);
+  if (lumped) EXPECT_NEAR(D * M.diagonal().sum(), expected, 1e-12 * expected);
 }
 
 TEST(Assembler, MassTotalIsExact) {
@@ -77,15 +79,45 @@ TEST(Assembler, MassTotalIsExact) {
 TEST(Assembler, BodiesAreUncoupled) {
   const model::Model<3> model = small_model<3>();
   const Assembler<3> assembler(model, false);
-  const int split = model.bodies[1].first_node * 3;
-  const Eigen::MatrixXd M(assembler.mass());
+  const int split = model.bodies[1].first_node;
+  const Eigen::MatrixXd M(assembler.node_mass());
   EXPECT_EQ(M.topRightCorner(split, M.cols() - split).norm(), 0.0);
+}
+
+// add_mass puts c M_AB on the diagonal of each D × D block of the
+// pattern's matrix (M = M_AB ⊗ I_D) and nothing elsewhere; find() gives
+// every entry's position in the pattern, and −1 outside it.
+template <int D>
+void check_mass_in_pattern() {
+  const model::Model<D> model = small_model<D>();
+  const Assembler<D> assembler(model, false);
+  SparseMatrix K = assembler.pattern().make_matrix();
+  assembler.add_mass(2.0, K);
+  const Eigen::MatrixXd node(assembler.node_mass());
+  ASSERT_GT(node.norm(), 0.0);
+  const Eigen::MatrixXd expected = Eigen::kroneckerProduct(2.0 * node, Eigen::MatrixXd::Identity(D, D));
+  EXPECT_EQ((Eigen::MatrixXd(K) - expected).norm(), 0.0);
+  int outside = 0;
+  for (int col = 0; col < K.cols(); ++col) {
+    for (int p = K.outerIndexPtr()[col]; p < K.outerIndexPtr()[col + 1]; ++p)
+      EXPECT_EQ(assembler.pattern().find(K.innerIndexPtr()[p], col), p);
+    for (int row = 0; row < K.rows(); ++row)
+      if (node(row / D, col / D) == 0.0 && assembler.pattern().find(row, col) < 0) ++outside;
+  }
+  EXPECT_GT(outside, 0);  // the two bodies do not couple
+  EXPECT_EQ(assembler.pattern().find(0, model.bodies[1].first_node * D), -1);
+}
+
+TEST(Assembler, MassGoesOnTheBlockDiagonalsOfThePattern) {
+  check_mass_in_pattern<2>();
+  check_mass_in_pattern<3>();
 }
 
 TEST(Dirichlet, MaskedRowsAndColumnsAreIdentity) {
   const model::Model<2> model = small_model<2>();
   const Assembler<2> assembler(model, false);
-  SparseMatrix K = assembler.mass();
+  SparseMatrix K = assembler.pattern().make_matrix();
+  assembler.add_mass(1.0, K);
   const DirichletMask mask(K, {0, 3, 7});
   mask.apply(K, 2.5);
   const Eigen::MatrixXd Kd(K);

@@ -92,6 +92,32 @@ TEST_P(LinearSolvers, FollowNewValuesOfTheSamePatternAndNewPatterns) {
   }
 }
 
+// A matrix whose column starts and entry count are those of the last one
+// but one of whose entries lies in another row is a new pattern: within
+// the same 2 × 2 block (row 12 → 13 of column 10), and in a block the last
+// pattern does not have (row 12 → 16).
+TEST_P(LinearSolvers, AnEntryMovedToAnotherRowIsANewPattern) {
+  const auto s = make(GetParam(), 100);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(100, 1.0, 2.0);
+  const SparseMatrix A = random_matrix(100, 2, 1);
+  for (const int row : {13, 16}) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int j = 0; j < A.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+        t.emplace_back(it.row() == 12 && j == 10 ? row : static_cast<int>(it.row()), j, it.value());
+    SparseMatrix B(100, 100);
+    B.setFromTriplets(t.begin(), t.end());
+    ASSERT_EQ(B.nonZeros(), A.nonZeros());
+    ASSERT_TRUE(std::equal(A.outerIndexPtr(), A.outerIndexPtr() + 101, B.outerIndexPtr()));
+    for (const SparseMatrix* M : {&A, static_cast<const SparseMatrix*>(&B)}) {
+      s->set_operator(*M);
+      Eigen::VectorXd x;
+      s->solve(b, x, 1e-12);
+      EXPECT_LE((*M * x - b).norm(), 1e-11 * b.norm()) << s->name() << " row " << row;
+    }
+  }
+}
+
 /// A lower-triangular band: its ILU(0) has no fill to drop, so it is the
 /// exact inverse and GMRES ends in one iteration, but only if the
 /// preconditioner was made from the present values.

@@ -44,7 +44,7 @@ TaylorOrder reduced_tangent_order(ContactRun<D>& run, const std::vector<int>* no
   base.enforce(u);
   std::optional<typename contact::Elimination<D>::Saved> at_base;
   base.save(at_base);
-  const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
+  const assembly::DirichletMask mask(run.assembler->pattern().make_matrix(), model.prescribed.dofs);
   SparseMatrix K = run.assembler->pattern().make_matrix();
   contact::EliminationCoupling<D> coupling(base);
   Eigen::VectorXd u_base = u, r0;
@@ -114,7 +114,7 @@ TaylorOrder system_tangent_order(ContactRun<D>& run, const std::vector<int>* nod
   model::apply_prescribed<D>(model.prescribed, model.X, run.state.time + dt, u);
   const std::unique_ptr<contact::Coupling> coupling = run.method->coupling(run.state.u, u);
   coupling->start(u);
-  const assembly::DirichletMask mask(run.assembler->mass(), model.prescribed.dofs);
+  const assembly::DirichletMask mask(run.assembler->pattern().make_matrix(), model.prescribed.dofs);
   SparseMatrix K = run.assembler->pattern().make_matrix();
   time::StepProblem<D> problem(*run.assembler, mask, fem::StressScheme::conserving, run.state, dt, u, K,
                                coupling.get());

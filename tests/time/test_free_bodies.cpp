@@ -54,7 +54,7 @@ void check_tangent(ContactRun<D>& run) {
   const auto& model = run.problem.model;
   const double dt = run.scenario.time.step;
   FreeBodies<D> bodies(*run.assembler);
-  const assembly::DirichletMask mask(run.assembler->mass(), model.held_dofs());
+  const assembly::DirichletMask mask(run.assembler->pattern().make_matrix(), model.held_dofs());
   SparseMatrix K = run.assembler->pattern().make_matrix();
   Eigen::VectorXd u = run.state.u + dt * run.state.v;
   bodies.begin(run.state, dt);

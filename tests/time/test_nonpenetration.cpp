@@ -42,7 +42,7 @@ Sweep run_sweep(const std::string& toml) {
   for (int n = 0; n == 0 || run.state.time < end; ++n) {
     if (n > 0) run.step();
     const Diagnostics d = run.diagnostics();
-    const Eigen::VectorXd p = run.assembler->mass() * run.state.v;
+    const Eigen::VectorXd p = run.assembler->mass_times(run.state.v);
     double momentum = 0.0;
     for (int a = 0; a < run.problem.model.num_nodes(); ++a) momentum += p.segment<D>(a * D).norm();
     e_ref = std::max(e_ref, d.kinetic + d.strain);

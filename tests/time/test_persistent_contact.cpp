@@ -304,7 +304,7 @@ kind = "frictionless"
   c.slave = pairs[0].slave.nodes.front();
   c.facet = 0;
   for (int b = 0; b < 3; ++b) c.master[b] = pairs[0].master.facets(b, 0);
-  const contact::PersistentVelocity<3> update(run.problem.model, run.assembler->mass());
+  const contact::PersistentVelocity<3> update(run.problem.model, run.assembler->node_mass());
   Eigen::VectorXd v = run.state.v;
   const contact::VelocityUpdate out = update.apply({c}, pairs, run.positions(), v);
   ASSERT_GT(out.removed, 0.0);  // the slave approaches its facet: there is something to remove

@@ -183,7 +183,7 @@ class Spring final : public StepTerm<3> {
 /// dofs, and a matrix of the tangent's pattern.
 struct Begun {
   explicit Begun(const Fixture& f)
-      : mask(f.assembler->mass(), {}),
+      : mask(f.assembler->pattern().make_matrix(), {}),
         terms(elastodynamic_terms(*f.assembler, fem::StressScheme::conserving)),
         K(f.assembler->pattern().make_matrix()) {
     for (const auto& term : terms) term->begin(f.start, Fixture::dt);

@@ -23,7 +23,7 @@ class HeldMethod : public Method<D> {
  public:
   /// `location` (onset > 0) locates impacts (ActiveSet::locate_impacts);
   /// `persistent` sets the active slaves' relative velocity to zero after
-  /// each step. `mass` is the assembler's; both must outlive the method.
+  /// each step. `mass` is the assembler's node_mass(); both must outlive the method.
   HeldMethod(const model::Model<D>& model, const SparseMatrix& mass, std::vector<ContactPair<D>> pairs,
              const ImpactLocation& location, bool persistent);
 

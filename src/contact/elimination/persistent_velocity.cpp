@@ -27,63 +27,43 @@ std::optional<double> energy_scale(double b, double k, double dK) {
   return t;
 }
 
-/// M_AB if every D × D block of M is M_AB times the identity (the
-/// assembler's masses, consistent and lumped); an empty matrix otherwise.
-template <int D>
-SparseMatrix node_mass(const SparseMatrix& M) {
-  if (M.rows() != M.cols() || M.rows() % D != 0) return {};
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int k = 0; k < M.outerSize(); k += D)
-    for (SparseMatrix::InnerIterator it(M, k); it; ++it)
-      if (it.row() % D == 0) entries.emplace_back(static_cast<int>(it.row() / D), k / D, it.value());
-  SparseMatrix node(M.rows() / D, M.cols() / D);
-  node.setFromTriplets(entries.begin(), entries.end());
-  for (int k = 0; k < M.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(M, k); it; ++it) {
-      const bool same = it.row() % D == k % D;
-      if (it.value() != (same ? node.coeff(it.row() / D, k / D) : 0.0)) return {};
-    }
-  // Entries of M_AB that M stores only as zeros would go unchecked above;
-  // the count of M's nonzero values settles it.
-  Eigen::Index nonzero = 0;
-  for (Eigen::Index p = 0; p < M.nonZeros(); ++p) nonzero += M.valuePtr()[p] != 0.0;
-  Eigen::Index node_nonzero = 0;
-  for (Eigen::Index p = 0; p < node.nonZeros(); ++p) node_nonzero += node.valuePtr()[p] != 0.0;
-  if (nonzero != D * node_nonzero) return {};
-  return node;
-}
-
 }  // namespace
 
 template <int D>
 PersistentVelocity<D>::PersistentVelocity(const model::Model<D>& model, const SparseMatrix& mass)
     : model_(model),
       mass_(mass),
-      lumped_(Eigen::VectorXd::Zero(mass.rows())),
-      prescribed_(mass.rows(), 0),
+      nodal_(mass.rows() == model.num_nodes()),
+      lumped_(Eigen::VectorXd::Zero(model.num_dofs())),
+      prescribed_(static_cast<std::size_t>(model.num_dofs()), 0),
       free_body_(static_cast<std::size_t>(model.num_nodes()), 0) {
-  for (int k = 0; k < mass.outerSize(); ++k)
-    for (SparseMatrix::InnerIterator it(mass, k); it; ++it) lumped_[it.row()] += it.value();
+  if (nodal_) {
+    for (int k = 0; k < mass.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(mass, k); it; ++it)
+        lumped_.segment<D>(it.row() * D).array() += it.value();
+  } else {
+    for (int k = 0; k < mass.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(mass, k); it; ++it) lumped_[it.row()] += it.value();
+  }
   for (int d : model.held_dofs()) prescribed_[d] = 1;
   for (const model::FreeBody& b : model.free_bodies)
     std::fill_n(free_body_.begin() + b.first_node, b.num_nodes, 1);
-  node_mass_ = node_mass<D>(mass);
 }
 
 template <int D>
 Eigen::VectorXd PersistentVelocity<D>::times_mass(const Eigen::VectorXd& x) const {
-  if (node_mass_.size() == 0) return mass_ * x;
-  const Eigen::Index nodes = node_mass_.rows();
+  if (!nodal_) return mass_ * x;
+  const Eigen::Index nodes = mass_.rows();
   Eigen::VectorXd y(x.size());
   // M_AB symmetric: (M_AB Xᵀ)ᵀ = X M_AB with X the D × nodes view of x.
   Eigen::Map<Eigen::Matrix<double, D, Eigen::Dynamic>>(y.data(), D, nodes).noalias() =
-      Eigen::Map<const Eigen::Matrix<double, D, Eigen::Dynamic>>(x.data(), D, nodes) * node_mass_;
+      Eigen::Map<const Eigen::Matrix<double, D, Eigen::Dynamic>>(x.data(), D, nodes) * mass_;
   return y;
 }
 
 template <int D>
 Eigen::MatrixXd PersistentVelocity<D>::times_mass(const Eigen::MatrixXd& x) const {
-  if (node_mass_.size() == 0) return mass_ * x;
+  if (!nodal_) return mass_ * x;
   Eigen::MatrixXd y(x.rows(), x.cols());
   for (Eigen::Index k = 0; k < x.cols(); ++k) y.col(k) = times_mass(Eigen::VectorXd(x.col(k)));
   return y;

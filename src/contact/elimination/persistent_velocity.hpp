@@ -55,8 +55,9 @@ struct SlaveImpulse {
 template <int D>
 class PersistentVelocity {
  public:
-  /// `mass` is the model's mass matrix (consistent or lumped), `model`
-  /// gives the prescribed dofs; both must outlive the object.
+  /// `mass` is the nodes' mass matrix M_AB (the assembler's node_mass(),
+  /// consistent or lumped; the dofs' is M_AB ⊗ I_D) or a dofs' mass
+  /// matrix; `model` gives the prescribed dofs; both must outlive the object.
   PersistentVelocity(const model::Model<D>& model, const SparseMatrix& mass);
 
   /// Updates the end-of-step velocities `v` for the active constraints at
@@ -86,17 +87,14 @@ class PersistentVelocity {
   /// then rotations about the centroid.
   [[nodiscard]] Eigen::MatrixXd rigid_modes(const Positions<D>& x) const;
 
-  /// M x and M X (column by column), through the nodes' scalar mass
-  /// when M has the form M_AB ⊗ I_D.
+  /// M x and M X (column by column).
   [[nodiscard]] Eigen::VectorXd times_mass(const Eigen::VectorXd& x) const;
   [[nodiscard]] Eigen::MatrixXd times_mass(const Eigen::MatrixXd& x) const;
 
   const model::Model<D>& model_;
+  /// M_AB (nodes × nodes: M = M_AB ⊗ I_D, the assembler's) or the dofs' M.
   const SparseMatrix& mass_;
-  /// M_AB (nodes × nodes) if M = M_AB ⊗ I_D, as the assembler makes it,
-  /// consistent or lumped; empty otherwise. A product with it reads
-  /// 1/D² of M's entries.
-  SparseMatrix node_mass_;
+  bool nodal_;  ///< mass_ is M_AB
   Eigen::VectorXd lumped_;      ///< per dof: the row sum of M (the lumped mass)
   std::vector<char> prescribed_;  ///< per dof: held (prescribed, or a free rigid body's)
   std::vector<char> free_body_;   ///< per node: a free rigid body's

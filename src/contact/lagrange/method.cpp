@@ -269,7 +269,7 @@ template <int D>
 LagrangeMethod<D>::LagrangeMethod(const model::Model<D>& model, const SparseMatrix& mass,
                                   std::vector<ContactPair<D>> pairs, const ImpactLocation& location,
                                   bool persistent)
-    : HeldMethod<D>(model, mass, std::move(pairs), location, persistent), mean_mass_(mass.diagonal().mean()) {}
+    : HeldMethod<D>(model, mass, std::move(pairs), location, persistent), mean_mass_(model::mean_dof_mass<D>(mass)) {}
 
 template <int D>
 std::unique_ptr<Coupling> LagrangeMethod<D>::coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) {

@@ -35,7 +35,7 @@ class LagrangeMethod final : public HeldMethod<D> {
   [[nodiscard]] std::unique_ptr<Coupling> coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) override;
 
  private:
-  double mean_mass_ = 0.0;  ///< mean of the mass matrix's diagonal [kg]
+  double mean_mass_ = 0.0;  ///< mean of the dofs' mass matrix's diagonal [kg]
 };
 
 }  // namespace conserve::contact
