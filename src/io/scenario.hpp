@@ -42,6 +42,7 @@ struct MeshSpec {
       file;  ///< .msh 4.1 or .stl file, absolute (resolved against the scenario's folder); empty with a generator
   std::string group;      ///< cell physical group to take from the file; empty = all cells
   bool flip_normals = false;  ///< reverse a bare surface's facets (file only)
+  bool reorder = false;       ///< renumber a file's nodes in reverse Cuthill–McKee order (file only)
   std::string generator;  ///< generator name (mesh/generators.hpp); empty with a file
   std::map<std::string, double> parameters;  ///< generator parameters, validated against the catalog
 };

@@ -37,7 +37,7 @@ std::vector<std::string> keys_in_file_order(const Section& s) {
 
 MeshSpec parse_file_mesh(const Section& s, const fs::path& scenario_file) {
   for (const auto& key : keys_in_file_order(s)) {
-    if (key != "file" && key != "group" && key != "flip_normals") {
+    if (key != "file" && key != "group" && key != "flip_normals" && key != "reorder") {
       s.fail(key, fmt::format("unknown key '{}'", key), "one of: " + key_names(s.spec()));
     }
   }
@@ -45,6 +45,7 @@ MeshSpec parse_file_mesh(const Section& s, const fs::path& scenario_file) {
   mesh.file = resolve_mesh_file(s, scenario_file);
   mesh.group = s.string("group");
   mesh.flip_normals = s.boolean("flip_normals");
+  mesh.reorder = s.boolean("reorder");
   return mesh;
 }
 
@@ -99,6 +100,8 @@ MeshSpec parse_generator_mesh(const Section& s) {
   if (s.has("group")) s.fail("group", "is only allowed with 'file'", "no 'group' with a generator");
   if (s.has("flip_normals"))
     s.fail("flip_normals", "is only allowed with 'file'", "no 'flip_normals' with a generator");
+  if (s.has("reorder"))
+    s.fail("reorder", "is only allowed with 'file'", "no 'reorder' with a generator (its nodes are reordered)");
   const auto& catalog = mesh::generator_catalog();
   const auto it = catalog.find(mesh.generator);
   const int dim = s.dimension();

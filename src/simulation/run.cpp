@@ -80,6 +80,7 @@ std::vector<RunSummary::BodyPenetration> body_penetration(contact::Method<D>& co
 template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   const auto started = std::chrono::system_clock::now();
+  const auto setup_start = std::chrono::steady_clock::now();
   Stepper<D> stepper(sc);
   const Problem<D>& problem = stepper.problem();
   if (options.warn)
@@ -130,6 +131,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
         file, {fingerprint, s, control, totals, contact ? contact->save() : std::string(), integrator.save()});
     return file;
   };
+  summary.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
   ProgressLine progress(options.progress, sc.output.progress_every);
   const double start_time = state.time;
   summary.min_dt = control.dt;

@@ -45,8 +45,8 @@ auto at_key(const io::Scenario& scenario, std::size_t i, std::string_view key, F
 /// reverse Cuthill–McKee order and its cells follow them (a generator's
 /// numbering is its own: Gmsh's scatters a cell's nodes across the whole
 /// body, and every cell loop and ILU(0) pays for it). A file's numbering
-/// is kept: outputs and messages then name its nodes and cells as the file
-/// does.
+/// is kept unless `reorder` asks otherwise: outputs and messages then name
+/// its nodes and cells as the file does.
 mesh::Mesh body_mesh(const io::Scenario& scenario, std::size_t i, int dim) {
   const io::BodySpec& spec = scenario.bodies[i];
   mesh::Mesh m;
@@ -63,11 +63,11 @@ mesh::Mesh body_mesh(const io::Scenario& scenario, std::size_t i, int dim) {
   } else {
     m = at_key(scenario, i, "mesh.generator",
                [&] { return mesh::generate_mesh(spec.mesh.generator, spec.mesh.parameters); });
-    if (m.num_cells() > 0) {
-      std::vector<int> offsets, neighbours;
-      mesh::node_graph(m, offsets, neighbours);
-      m = mesh::renumbered(m, solver::reverse_cuthill_mckee(offsets, neighbours));
-    }
+  }
+  if ((!spec.mesh.generator.empty() || spec.mesh.reorder) && m.num_cells() > 0) {
+    std::vector<int> offsets, neighbours;
+    mesh::node_graph(m, offsets, neighbours);
+    m = mesh::renumbered(m, solver::reverse_cuthill_mckee(offsets, neighbours));
   }
   if (!spec.rotate.isIdentity()) m.points = spec.rotate.topLeftCorner(m.dim, m.dim) * m.points;
   m.points.colwise() += spec.translate.head(m.dim);

@@ -41,6 +41,7 @@ Json figures(const RunSummary& s, int unknowns) {
   return Json{{"steps", s.steps},
               {"unknowns", unknowns},
               {"wall_seconds", s.wall_seconds},
+              {"setup_seconds", s.setup_seconds},
               {"peak_memory_bytes", peak},
               {"bytes_per_unknown", unknowns > 0 ? peak / unknowns : 0.0},
               {"drift", drifts(s)},

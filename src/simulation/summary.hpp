@@ -19,7 +19,10 @@ namespace conserve::simulation {
 /// What a finished run measured.
 struct RunSummary {
   std::int64_t steps = 0;  ///< steps taken by this invocation
-  double wall_seconds = 0.0;
+  double wall_seconds = 0.0;  ///< the time loop's
+  /// From the scenario to the first step: meshes read or generated, the
+  /// model, its pattern and solver, the output folder and step 0 written.
+  double setup_seconds = 0.0;
   /// Per quantity (simulation/drift.hpp: E, L_x … J_z) its drift over the
   /// run (NaN where not conserved or not present) and its scale.
   std::array<double, kQuantities> drift{};

@@ -92,10 +92,9 @@ struct KrylovSolver::Petsc {
   KSP ksp = nullptr;
   ::Vec b = nullptr, x = nullptr;
   bool operators_set = false;
-  std::vector<int> outer;           ///< the column starts of the CSC pattern the matrix was made for
+  std::vector<int> outer, inner;    ///< the CSC pattern the matrix was made for
   std::vector<PetscInt> row_start, column;  ///< the PETSc matrix's (block) CSR pattern
-  std::vector<int> to;              ///< CSC position → position in the PETSc values (with `outer`,
-                                    ///< the whole CSC pattern: same_pattern())
+  std::vector<int> to;              ///< CSC position → position in the PETSc values
   int block_size = 1;               ///< D for BAIJ, 1 for AIJ
   Eigen::MatrixXd X;                ///< reference coordinates (GAMG's rigid-body modes)
   const SparseMatrix* last = nullptr;  ///< the matrix of set_operator (valid until the next)
@@ -211,28 +210,11 @@ struct KrylovSolver::Petsc {
   }
   bool split = false;  ///< a saddle-point system has been split (name())
 
-  /// Whether M has the CSC pattern the matrix was made for: the same
-  /// column starts, and each entry's row and column those its place in the
-  /// PETSc values stands for (a (block) row's range, its (block) column,
-  /// and within a block the entry's place), so that no copy of the rows
-  /// is kept.
   [[nodiscard]] bool same_pattern(const SparseMatrix& M) const {
-    if (static_cast<Eigen::Index>(outer.size()) != M.outerSize() + 1 ||
-        static_cast<Eigen::Index>(to.size()) != M.nonZeros() ||
-        !std::equal(outer.begin(), outer.end(), M.outerIndexPtr()))
-      return false;
-    const int d = block_size, n = static_cast<int>(M.rows());
-    const int* rows = M.innerIndexPtr();
-    for (int j = 0; j < M.outerSize(); ++j)
-      for (int k = outer[j]; k < outer[j + 1]; ++k) {
-        const int i = rows[k];
-        if (i < 0 || i >= n) return false;
-        const int slot = to[k] / (d * d), place = to[k] % (d * d);
-        const int I = i / d;
-        if (slot < row_start[I] || slot >= row_start[I + 1] || column[slot] != j / d || place != (j % d) * d + i % d)
-          return false;
-      }
-    return true;
+    return static_cast<Eigen::Index>(outer.size()) == M.outerSize() + 1 &&
+           static_cast<Eigen::Index>(inner.size()) == M.nonZeros() &&
+           std::equal(outer.begin(), outer.end(), M.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), M.innerIndexPtr());
   }
 
   /// A new PETSc matrix for the pattern of M (compressed columns → rows):
@@ -242,7 +224,7 @@ struct KrylovSolver::Petsc {
   void new_matrix(const SparseMatrix& M) {
     const int n = static_cast<int>(M.rows());
     outer.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.outerSize() + 1);
-    const int* inner = M.innerIndexPtr();
+    inner.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
     const int dim = static_cast<int>(X.rows());
     // Node blocks only for a system of the model's own unknowns: one with
     // extra unknowns (contact multipliers) has rows that are no node's.
@@ -252,13 +234,13 @@ struct KrylovSolver::Petsc {
     check(MatCreate(PETSC_COMM_SELF, &A), "MatCreate");
     check(MatSetSizes(A, n, n, n, n), "MatSetSizes");
     if (blocked) {
-      new_block_pattern(dim, n / dim, inner);
+      new_block_pattern(dim, n / dim);
       check(MatSetType(A, MATSEQBAIJ), "MatSetType");
       // No values: zeros (copy_values() sets them).
       check(MatSeqBAIJSetPreallocationCSR(A, dim, row_start.data(), column.data(), nullptr),
             "MatSeqBAIJSetPreallocationCSR");
     } else {
-      new_scalar_pattern(n, inner, static_cast<int>(M.nonZeros()));
+      new_scalar_pattern(n);
       check(MatSetType(A, MATSEQAIJ), "MatSetType");
       if (nodal) check(MatSetBlockSize(A, dim), "MatSetBlockSize");
       check(MatSeqAIJSetPreallocationCSR(A, row_start.data(), column.data(), nullptr),
@@ -281,12 +263,12 @@ struct KrylovSolver::Petsc {
   }
 
   /// CSR of the entries; to[k] is where CSC entry k goes in the values.
-  void new_scalar_pattern(int n, const int* inner, int nonzeros) {
+  void new_scalar_pattern(int n) {
     row_start.assign(n + 1, 0);
-    for (int k = 0; k < nonzeros; ++k) ++row_start[inner[k] + 1];
+    for (const int i : inner) ++row_start[i + 1];
     for (int i = 0; i < n; ++i) row_start[i + 1] += row_start[i];
-    column.resize(static_cast<std::size_t>(nonzeros));
-    to.resize(static_cast<std::size_t>(nonzeros));
+    column.resize(inner.size());
+    to.resize(inner.size());
     std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1);
     for (int j = 0; j < n; ++j)  // columns in order: each row's columns come out sorted
       for (int k = outer[j]; k < outer[j + 1]; ++k) {
@@ -303,7 +285,7 @@ struct KrylovSolver::Petsc {
   /// counts each block row's blocks, the second hands out their slots in
   /// the order their columns come, so each row's columns come out sorted
   /// and every entry finds its block without a search.
-  void new_block_pattern(int d, int nodes, const int* inner) {
+  void new_block_pattern(int d, int nodes) {
     std::vector<PetscInt> seen(nodes, -1);  // the last block column that met each block row
     row_start.assign(nodes + 1, 0);
     for (int J = 0; J < nodes; ++J)
@@ -311,7 +293,7 @@ struct KrylovSolver::Petsc {
         if (const int I = inner[k] / d; seen[I] != J) seen[I] = J, ++row_start[I + 1];
     for (int I = 0; I < nodes; ++I) row_start[I + 1] += row_start[I];
     column.resize(row_start[nodes]);
-    to.resize(static_cast<std::size_t>(outer[static_cast<std::size_t>(nodes) * d]));
+    to.resize(inner.size());
     std::vector<PetscInt> next(row_start.begin(), row_start.end() - 1);
     std::vector<PetscInt> slot(nodes, -1);  // block column J's block in each row it meets
     std::fill(seen.begin(), seen.end(), -1);

@@ -62,7 +62,7 @@ TEST(ScenarioErrors, UnknownKeyInEveryTable) {
   EXPECT_TRUE(fails_with(minimal("[output]\ndir = \"x\"\n"), 13, "output.dir", "directory"));
   EXPECT_TRUE(fails_with(replace_line(minimal(), 5, "nam = \"a\""), 5, "body[0].nam", "unknown key 'nam'"));
   EXPECT_TRUE(fails_with(minimal("grp = \"x\"\n"), 12, "body[0].mesh.grp",
-                         "expected one of: file, group, flip_normals, generator"));
+                         "expected one of: file, group, flip_normals, reorder, generator"));
   EXPECT_TRUE(fails_with(minimal("[[boundary]]\nbody = \"a\"\ngroup = \"all\"\nrates = [0, 0, 0]\n"), 15,
                          "boundary[0].rates", "unknown key 'rates'"));
 }
@@ -73,6 +73,14 @@ TEST(ScenarioErrors, FlipNormalsIsABooleanOfAFileMesh) {
   EXPECT_TRUE(fails_with(minimal("flip_normals = \"yes\"\n"), 12, "body[0].mesh.flip_normals", "got a string"));
   EXPECT_TRUE(fails_with(with_mesh("generator = \"box\"\nlx = 1\nly = 1\nlz = 1\nsize = 0.5\nflip_normals = true\n"),
                          16, "body[0].mesh.flip_normals", "is only allowed with 'file'"));
+}
+
+TEST(ScenarioErrors, ReorderIsABooleanOfAFileMesh) {
+  EXPECT_FALSE(parse_scenario(minimal(), case_file()).bodies[0].mesh.reorder);
+  EXPECT_TRUE(parse_scenario(minimal("reorder = true\n"), case_file()).bodies[0].mesh.reorder);
+  EXPECT_TRUE(fails_with(minimal("reorder = 1\n"), 12, "body[0].mesh.reorder", "got"));
+  EXPECT_TRUE(fails_with(with_mesh("generator = \"box\"\nlx = 1\nly = 1\nlz = 1\nsize = 0.5\nreorder = true\n"),
+                         16, "body[0].mesh.reorder", "is only allowed with 'file'"));
 }
 
 TEST(ScenarioErrors, FirstUnknownKeyInFileOrderIsReported) {

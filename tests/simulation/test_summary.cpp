@@ -36,6 +36,7 @@ TEST(Summary, NonFiniteNumbersAreNull) {
   s.drift[2] = std::numeric_limits<double>::infinity();
   s.min_dt = -std::numeric_limits<double>::infinity();
   s.wall_seconds = 1.5;
+  s.setup_seconds = 0.25;
   const std::string text = summary_json(s, 3, origin("t"));
   EXPECT_EQ(text.find("NaN"), std::string::npos) << text;
   EXPECT_EQ(text.find("nan"), std::string::npos) << text;
@@ -46,6 +47,7 @@ TEST(Summary, NonFiniteNumbersAreNull) {
   EXPECT_EQ(j.at("drift").at("L_x"), 0.0);
   EXPECT_TRUE(j.at("min_dt").is_null());
   EXPECT_EQ(j.at("wall_seconds"), 1.5);
+  EXPECT_EQ(j.at("setup_seconds"), 0.25);
   // The process's peak memory, and per unknown (3 here).
   const double peak = j.at("peak_memory_bytes");
   EXPECT_GT(peak, 1e6);
