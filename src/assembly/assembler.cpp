@@ -46,6 +46,7 @@ Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
   }
   node_mass_.resize(model.num_nodes(), model.num_nodes());
   node_mass_.setFromTriplets(node_entries.begin(), node_entries.end());  // sums in cell order
+  mean_dof_mass_ = model::mean_dof_mass<D>(node_mass_);
   Eigen::VectorXd g(model.num_dofs());
   for (int n = 0; n < model.num_nodes(); ++n) g.segment<D>(n * D) = model.gravity;
   gravity_force_ = mass_times(g);

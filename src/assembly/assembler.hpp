@@ -42,6 +42,8 @@ class Assembler {
   [[nodiscard]] Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const;
   /// K += c M for K with the pattern's layout.
   void add_mass(double c, SparseMatrix& K) const;
+  /// The mean of the diagonal of the dofs' mass matrix [kg] (model::mean_dof_mass).
+  [[nodiscard]] double mean_dof_mass() const { return mean_dof_mass_; }
   /// Constant external force from gravity, f_A = Σ_B M_AB g [N].
   [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
 
@@ -137,6 +139,7 @@ class Assembler {
   mutable Eigen::VectorXd measured_u_;
   mutable std::vector<Scratch> scratch_;
   SparseMatrix node_mass_;  ///< M_AB, nodes × nodes
+  double mean_dof_mass_ = 0.0;
   Eigen::VectorXd gravity_force_;
   Eigen::VectorXd stiffness_scale_;
   Eigen::VectorXd displacement_stiffness_;

@@ -129,7 +129,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
   assembled_ = false;
   // Prescribed rows get the inertia's mean diagonal: of the order of the
   // others, whatever the stiffness.
-  const double diagonal = 2.0 / (dt_ * dt_) * model::mean_dof_mass<D>(assembler_.node_mass());
+  const double diagonal = 2.0 / (dt_ * dt_) * assembler_.mean_dof_mass();
   SparseMatrix* system = &K_;
   if (coupled()) {
     solver::ScopedTimer timer(clock(&solver::Timings::elimination));
