@@ -6,6 +6,8 @@
 // 5: stopped by SIGTERM or SIGUSR1 after the step under way, with a
 // checkpoint to continue from and summary.json (a second signal ends the
 // process at once).
+// On several ranks (mpiexec -n N conserve run ...) every rank runs the
+// same program; rank 0 alone prints, and every rank exits with the same code.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
@@ -14,6 +16,7 @@
 
 #include <algorithm>
 #include <csignal>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +25,7 @@
 #include "io/scenario.hpp"
 #include "simulation/run.hpp"
 #include "solver/blas_threads.hpp"
+#include "solver/ranks.hpp"
 
 namespace {
 
@@ -197,30 +201,35 @@ void catch_stop_signals() {
   sigaction(SIGUSR1, &action, nullptr);
 }
 
+/// Collective: a signal to any rank stops every rank after the same step.
 std::string stop_requested() {
-  const int signal = stop_signal;
+  const int signal = conserve::solver::ranks::max(static_cast<int>(stop_signal));
   return signal == SIGTERM ? "SIGTERM" : signal == SIGUSR1 ? "SIGUSR1" : signal != 0 ? "a signal" : "";
 }
 
+/// Runs body, turning its errors into one line on stderr (from rank 0
+/// alone: every rank has the same error, simulation/run.hpp) and the exit code.
 template <class F>
 int guarded(F&& body) {
+  const bool root = conserve::solver::ranks::root();
   try {
     return body();
   } catch (const conserve::InputError& e) {
-    fmt::print(stderr, "conserve: error: {}\n", e.what());
+    if (root) fmt::print(stderr, "conserve: error: {}\n", e.what());
     return 1;
   } catch (const conserve::SolverError& e) {
-    fmt::print(stderr, "conserve: solver failed: {}\n", e.what());
+    if (root) fmt::print(stderr, "conserve: solver failed: {}\n", e.what());
     return 3;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "conserve: error: {}\n", e.what());
+    if (root) fmt::print(stderr, "conserve: error: {}\n", e.what());
     return 4;
   }
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_program(int argc, char** argv) {
+  const bool root = conserve::solver::ranks::root();
   CLI::App app{"conserve: energy-momentum conserving finite-element dynamics with contact"};
   app.set_version_flag("--version", fmt::format("conserve {} (commit {})", conserve::build_info::version(),
                                                 conserve::build_info::commit()));
@@ -251,34 +260,44 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
+    std::ostringstream muted;
+    const int code = root ? app.exit(e) : app.exit(e, muted, muted);
     return code == 0 ? 0 : 2;
   }
   return guarded([&] {
     const conserve::io::Scenario scenario = conserve::io::read_scenario(scenario_file, overrides);
-    const auto warn = [](const std::string& w) { fmt::print(stderr, "conserve: warning: {}\n", w); };
+    const auto warn = [root](const std::string& w) {
+      if (root) fmt::print(stderr, "conserve: warning: {}\n", w);
+    };
     if (*check) {
       const conserve::simulation::CheckSummary s = conserve::simulation::check(scenario);
       for (const std::string& w : s.warnings) warn(w);
-      print_check(scenario_file, s, all_pairs);
+      if (root) print_check(scenario_file, s, all_pairs);
       return 0;
     }
     conserve::solver::set_blas_threads(blas_threads);
     conserve::simulation::RunOptions options;
     if (!output_dir.empty()) options.output_directory = output_dir;
-    if (quiet) options.progress = nullptr;
+    if (quiet || !root) options.progress = nullptr;
     if (steps >= 0) options.max_steps = steps;
     if (!restart_file.empty()) options.restart = restart_file;
     options.warn = warn;
     options.stop = stop_requested;
     catch_stop_signals();
     const RunSummary summary = conserve::simulation::run(scenario, options);
-    print_summary(summary);
+    if (root) print_summary(summary);
     if (summary.stopped.empty()) return 0;
-    fmt::print(stderr,
-               "conserve: stopped by {} at t = {:.9g} s; the state is in {} (continue with --restart {}), "
-               "summary.json is written\n",
-               summary.stopped, summary.end_time, summary.stop_checkpoint.string(), summary.stop_checkpoint.string());
+    if (root)
+      fmt::print(stderr,
+                 "conserve: stopped by {} at t = {:.9g} s; the state is in {} (continue with --restart {}), "
+                 "summary.json is written\n",
+                 summary.stopped, summary.end_time, summary.stop_checkpoint.string(), summary.stop_checkpoint.string());
     return 5;
   });
+}
+
+int main(int argc, char** argv) {
+  const int code = run_program(argc, argv);
+  conserve::solver::ranks::finalize();
+  return code;
 }

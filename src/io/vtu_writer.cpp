@@ -31,7 +31,7 @@ class Arrays {
 
   template <typename T>
   std::string add(std::string_view type, std::string_view name, int components, const std::vector<T>& values,
-                   const std::vector<std::string>& component_names = {}) {
+                  const std::vector<std::string>& component_names = {}) {
     std::string attributes = name.empty() ? std::string() : fmt::format(" Name=\"{}\"", detail::xml_escape(name));
     for (std::size_t c = 0; c < component_names.size(); ++c)
       attributes += fmt::format(" ComponentName{}=\"{}\"", c, detail::xml_escape(component_names[c]));
@@ -44,7 +44,8 @@ class Arrays {
 
   /// A field of doubles, as Float32 when the format asks for it.
   std::string add_field(const VtuField& field) {
-    if (!format_.single_precision) return add("Float64", field.name, field.components, field.values, field.component_names);
+    if (!format_.single_precision)
+      return add("Float64", field.name, field.components, field.values, field.component_names);
     const std::vector<float> single(field.values.begin(), field.values.end());
     return add("Float32", field.name, field.components, single, field.component_names);
   }
@@ -190,6 +191,61 @@ std::uintmax_t write_vtu(const std::filesystem::path& file, const VtuGrid& grid,
   xml += "\n  </AppendedData>\n</VTKFile>\n";
   write_atomically(file, xml);
   return xml.size();
+}
+
+VtuGrid piece(const VtuGrid& grid, Eigen::Index first, Eigen::Index end) {
+  VtuGrid out;
+  const Eigen::Index cells = end - first, k = grid.cells.rows();
+  const auto nodes_of = [&](Eigen::Index c) {
+    return grid.nodes_per_cell.empty() ? static_cast<int>(k) : grid.nodes_per_cell[static_cast<std::size_t>(c)];
+  };
+  std::vector<int> local(static_cast<std::size_t>(grid.points.cols()), -1);
+  for (Eigen::Index c = first; c < end; ++c)
+    for (int a = 0; a < nodes_of(c); ++a) local[static_cast<std::size_t>(grid.cells(a, c))] = 0;
+  std::vector<Eigen::Index> used;
+  for (std::size_t n = 0; n < local.size(); ++n)
+    if (local[n] == 0) local[n] = static_cast<int>(used.size()), used.push_back(static_cast<Eigen::Index>(n));
+  out.points.resize(grid.points.rows(), static_cast<Eigen::Index>(used.size()));
+  for (std::size_t n = 0; n < used.size(); ++n) out.points.col(static_cast<Eigen::Index>(n)) = grid.points.col(used[n]);
+  out.cells = Eigen::MatrixXi::Zero(k, cells);
+  for (Eigen::Index c = first; c < end; ++c) {
+    for (int a = 0; a < nodes_of(c); ++a) out.cells(a, c - first) = local[static_cast<std::size_t>(grid.cells(a, c))];
+    if (!grid.nodes_per_cell.empty()) out.nodes_per_cell.push_back(nodes_of(c));
+  }
+  for (const VtuField& f : grid.point_data) {
+    VtuField g{f.name, f.components, {}, f.component_names};
+    for (const Eigen::Index n : used)
+      g.values.insert(g.values.end(), f.values.begin() + n * f.components, f.values.begin() + (n + 1) * f.components);
+    out.point_data.push_back(std::move(g));
+  }
+  for (const VtuField& f : grid.cell_data) {
+    VtuField g{f.name, f.components, {}, f.component_names};
+    g.values.assign(f.values.begin() + first * f.components, f.values.begin() + end * f.components);
+    out.cell_data.push_back(std::move(g));
+  }
+  return out;
+}
+
+void write_pvtu(const std::filesystem::path& file, const VtuGrid& grid, const VtuFormat& format,
+                const std::vector<std::string>& pieces) {
+  const char* type = format.single_precision ? "Float32" : "Float64";
+  const auto declare = [&](const char* section, const std::vector<VtuField>& fields) {
+    std::string xml = fmt::format("    <{}>\n", section);
+    for (const VtuField& f : fields)
+      xml += fmt::format("      <PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n", type,
+                         detail::xml_escape(f.name), f.components);
+    return xml + fmt::format("    </{}>\n", section);
+  };
+  std::string xml = fmt::format(
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"{}\" "
+      "header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n",
+      byte_order);
+  xml += declare("PPointData", grid.point_data);
+  xml += declare("PCellData", grid.cell_data);
+  xml += "    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
+  for (const std::string& p : pieces) xml += fmt::format("    <Piece Source=\"{}\"/>\n", detail::xml_escape(p));
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_atomically(file, xml);
 }
 
 PvdWriter::PvdWriter(std::filesystem::path file) : file_(std::move(file)) {}

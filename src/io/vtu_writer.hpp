@@ -47,6 +47,17 @@ struct VtuFormat {
 /// returns the file's size [bytes]. Throws Error on I/O failure.
 std::uintmax_t write_vtu(const std::filesystem::path& file, const VtuGrid& grid, const VtuFormat& format = {});
 
+/// The cells [first, end) of `grid` with the points they use (renumbered in
+/// ascending order) and those points' and cells' fields: one rank's piece
+/// of a grid written in parts.
+VtuGrid piece(const VtuGrid& grid, Eigen::Index first, Eigen::Index end);
+
+/// Writes a parallel unstructured grid (.pvtu) atomically: the fields of
+/// `grid` (their names, components and types as write_vtu() gives them)
+/// and the pieces' files (relative to the .pvtu's folder).
+void write_pvtu(const std::filesystem::path& file, const VtuGrid& grid, const VtuFormat& format,
+                const std::vector<std::string>& pieces);
+
 /// A ParaView .pvd collection, rewritten atomically after each added step.
 class PvdWriter {
  public:

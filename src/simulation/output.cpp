@@ -9,6 +9,7 @@
 
 #include "contact/debug_output.hpp"
 #include "core/error.hpp"
+#include "solver/ranks.hpp"
 
 namespace conserve::simulation {
 
@@ -17,8 +18,8 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
                                          const std::vector<std::string>& support_names,
                                          const std::vector<std::string>& free_names,
                                          const std::vector<contact::MethodStatistic>& own) {
-  std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total", "L_x", "L_y", "L_z",
-                                "J_x",  "J_y",  "J_z"};
+  std::vector<std::string> c = {"step", "time", "kinetic", "strain", "potential", "total",
+                                "L_x",  "L_y",  "L_z",     "J_x",    "J_y",       "J_z"};
   for (std::string& s : statistic_columns(own)) c.push_back(std::move(s));
   c.insert(c.end(), {"drift_E", "drift_L", "drift_J"});
   for (const auto& name : body_names)
@@ -129,12 +130,16 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
     : assembler_(assembler),
       contacts_(contacts),
       contact_state_(spec.contact_state && contacts),
-      directory_(prepared(directory, spec.vtu_every)),
+      directory_(solver::ranks::root() ? prepared(directory, spec.vtu_every) : directory),
       vtu_every_(spec.vtu_every),
       format_{.compress = spec.compress, .single_precision = spec.single_precision},
-      history_(directory / "history.csv", history_columns(body_names(assembler.model()), pair_names<D>(contacts),
-                                                          support_names<D>(assembler.model()),
-                                                          free_names<D>(assembler.model()), own_statistics(contacts))) {
+      rank_(solver::ranks::rank()),
+      ranks_(solver::ranks::size()) {
+  if (rank_ == 0)
+    history_.emplace(
+        directory / "history.csv",
+        history_columns(body_names(assembler.model()), pair_names<D>(contacts), support_names<D>(assembler.model()),
+                        free_names<D>(assembler.model()), own_statistics(contacts)));
   if (resume_time) last_time_ = *resume_time;
   add_bare_surfaces<D>(assembler.model(), surface_facets_, surface_body_);
   if (spec.vtu_every > 0) pvd_ = std::make_unique<io::PvdWriter>(directory / "solution.pvd");
@@ -142,8 +147,7 @@ OutputWriter<D>::OutputWriter(const assembly::Assembler<D>& assembler, const std
 }
 
 template <int D>
-void OutputWriter<D>::write(const model::State& state, const StepFigures& figures, const Drifts& drift,
-                            bool last) {
+void OutputWriter<D>::write(const model::State& state, const StepFigures& figures, const Drifts& drift, bool last) {
   const time::Diagnostics& d = figures.diagnostics;
   std::vector<double> row = {static_cast<double>(state.step),
                              state.time,
@@ -172,15 +176,15 @@ void OutputWriter<D>::write(const model::State& state, const StepFigures& figure
   }
   const auto& supports = assembler_.model().prescribed.supports;
   for (std::size_t s = 0; s < supports.size(); ++s) {
-    const time::SupportReaction r = s < figures.record.supports.size() ? figures.record.supports[s]
-                                                                       : time::SupportReaction{};
+    const time::SupportReaction r =
+        s < figures.record.supports.size() ? figures.record.supports[s] : time::SupportReaction{};
     row.insert(row.end(), {r.force.x(), r.force.y(), r.force.z(), r.moment.x(), r.moment.y(), r.moment.z()});
     const Vec3 u = mean_displacement<D>(assembler_.model(), supports[s], state.u);
     row.insert(row.end(), {u.x(), u.y(), u.z(), state.support_work.at(s)});
   }
   for (const model::RigidBodyState& b : state.rigid) row.insert(row.end(), {b.spin.x(), b.spin.y(), b.spin.z()});
   last_time_ = state.time;
-  history_.write_row(row);
+  if (history_) history_->write_row(row);
   if (pvd_ && (state.step % vtu_every_ == 0 || last)) write_vtu(state);
 }
 
@@ -227,11 +231,25 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   energy.values.resize(energy.values.size() + surface_body_.size(), std::nan(""));
   body.values.insert(body.values.end(), surface_body_.begin(), surface_body_.end());
   grid.cell_data = {std::move(stress), std::move(mises), std::move(energy), std::move(body)};
-  const std::string name = fmt::format("vtu/step_{:06d}.vtu", state.step);
-  frame_bytes_ += io::write_vtu(directory_ / name, grid, format_);
   ++frames_;
-  pvd_->add(state.time, name);
-  if (contact_state_) write_contact_state(state);
+  if (ranks_ == 1) {
+    const std::string name = fmt::format("vtu/step_{:06d}.vtu", state.step);
+    frame_bytes_ += io::write_vtu(directory_ / name, grid, format_);
+    pvd_->add(state.time, name);
+  } else {
+    const auto share = [&](int r) { return grid.cells.cols() * r / ranks_; };
+    const auto piece_name = [&](int r) { return fmt::format("step_{:06d}_{}.vtu", state.step, r); };
+    frame_bytes_ +=
+        io::write_vtu(directory_ / "vtu" / piece_name(rank_), io::piece(grid, share(rank_), share(rank_ + 1)), format_);
+    if (rank_ == 0) {
+      std::vector<std::string> pieces;
+      for (int r = 0; r < ranks_; ++r) pieces.push_back(piece_name(r));
+      const std::string name = fmt::format("vtu/step_{:06d}.pvtu", state.step);
+      io::write_pvtu(directory_ / name, grid, format_, pieces);
+      pvd_->add(state.time, name);
+    }
+  }
+  if (contact_state_ && rank_ == 0) write_contact_state(state);
 }
 
 template <int D>
@@ -244,7 +262,8 @@ void OutputWriter<D>::add_contact_fields(const model::State& state, io::VtuGrid&
   // Per slave node: its tributary area (a share 1/D of each of its slave
   // facets, now; 2D: × the body's thickness) and its signed gap to the
   // master facet the search finds (NaN out of reach).
-  io::VtuField gap{"contact_gap", 1, std::vector<double>(n, nan)}, status{"contact_status", 1, std::vector<double>(n, nan)};
+  io::VtuField gap{"contact_gap", 1, std::vector<double>(n, nan)},
+      status{"contact_status", 1, std::vector<double>(n, nan)};
   std::vector<double> area(n, 0.0);
   for (const auto& pair : pairs) {
     contact::ContactPair<D> moved = pair;  // the pair's own tree is at the last search's positions
@@ -256,8 +275,8 @@ void OutputWriter<D>::add_contact_fields(const model::State& state, io::VtuGrid&
       double a = 0.0;
       for (int f : moved.slave.node_facets[i]) a += facet_measure<D>(moved.slave, f, x) / D;
       if (area[s] == 0.0) area[s] = a * thickness;
-      const auto match = contact::find_master<D>(x.col(s), moved.master, moved.tree, x, moved.search, normals[i],
-                                                 &moved.frames);
+      const auto match =
+          contact::find_master<D>(x.col(s), moved.master, moved.tree, x, moved.search, normals[i], &moved.frames);
       if (match && !(std::abs(gap.values[s]) <= std::abs(match->projection.gap))) gap.values[s] = match->projection.gap;
       if (std::isnan(status.values[s])) status.values[s] = 0.0;  // open
     }

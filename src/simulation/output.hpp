@@ -32,6 +32,11 @@ std::vector<std::string> history_columns(const std::vector<std::string>& body_na
                                          const std::vector<std::string>& free_names = {},
                                          const std::vector<contact::MethodStatistic>& own = {});
 
+/// On several ranks (solver/ranks.hpp) every rank makes one and calls it
+/// alike: rank 0 writes the history and the folder's files, each rank
+/// writes its piece of a VTU frame (vtu/step_NNNNNN_RANK.vtu, an equal
+/// share of the cells) and rank 0 the frame's .pvtu. A failure on one rank
+/// is not collective here: callers wrap the calls in ranks::together().
 template <int D>
 class OutputWriter {
  public:
@@ -74,8 +79,9 @@ class OutputWriter {
   int vtu_every_;
   io::VtuFormat format_;
   std::int64_t frames_ = 0;
-  std::uintmax_t frame_bytes_ = 0;
-  io::HistoryWriter history_;
+  std::uintmax_t frame_bytes_ = 0;  ///< this rank's
+  int rank_, ranks_;
+  std::optional<io::HistoryWriter> history_;  ///< rank 0's
   std::unique_ptr<io::PvdWriter> pvd_;
 };
 

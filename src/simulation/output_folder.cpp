@@ -23,7 +23,8 @@ constexpr std::array kWholeRunFiles = {"summary.json",     "energy.png",  "momen
 struct PerStep {
   std::string_view folder, prefix, suffix;
 };
-constexpr std::array kPerStepFiles = {PerStep{"vtu", "step_", ".vtu"}, PerStep{"vtu", "contact_", ".vtu"},
+constexpr std::array kPerStepFiles = {PerStep{"vtu", "step_", ".vtu"}, PerStep{"vtu", "step_", ".pvtu"},
+                                      PerStep{"vtu", "contact_", ".vtu"},
                                       PerStep{"checkpoints", "ckpt_", ".bin"}, PerStep{"", "snapshot_", ".png"}};
 
 /// The step number of `name` if it is `prefix` + digits + (anything) + `suffix`.

@@ -22,6 +22,7 @@
 #include "simulation/progress.hpp"
 #include "simulation/setup.hpp"
 #include "simulation/stepper.hpp"
+#include "solver/ranks.hpp"
 #include "time/diagnostics.hpp"
 #include "time/integrator.hpp"
 
@@ -77,8 +78,14 @@ std::vector<RunSummary::BodyPenetration> body_penetration(contact::Method<D>& co
   return out;
 }
 
+/// On several ranks every rank runs all of this alike (solver/ranks.hpp):
+/// rank 0 writes the folder's files, each rank its VTU pieces, and every
+/// write is wrapped in ranks::together() or ranks::on_root(), so that a
+/// failure on one rank ends all of them with the same error.
 template <int D>
 RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
+  namespace ranks = solver::ranks;
+  const bool root = ranks::root();
   const auto started = std::chrono::system_clock::now();
   const auto setup_start = std::chrono::steady_clock::now();
   Stepper<D> stepper(sc);
@@ -106,29 +113,45 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     totals = c.totals;
     if (contact) contact->load(c.contact, options.restart->string());
     integrator.load(c.integrator, options.restart->string());
-    io::resume_history(dir / "history.csv", state.step);
-    io::resume_history(dir / "steps.csv", state.step);
+    ranks::on_root([&] {
+      io::resume_history(dir / "history.csv", state.step);
+      io::resume_history(dir / "steps.csv", state.step);
+    });
   }
   const RunOrigin origin = run_origin(sc, started);  // reads the mesh files: before anything is written
-  summary.earlier_files_removed =
-      clear_earlier_run(dir, options.restart ? std::optional<std::int64_t>(state.step) : std::nullopt);
-  OutputWriter<D> output(assembler, dir, sc.output, contact,
-                         options.restart ? std::optional<double>(state.time) : std::nullopt);
-  io::write_atomically(dir / "scenario.toml", sc.text);
-  io::HistoryWriter steps_csv(dir / "steps.csv", {"step", "time", "dt", "cutbacks"});
-  std::ofstream cutback_log(dir / "cutbacks.log", state.step > 0 ? std::ios::app : std::ios::trunc);
+  std::optional<OutputWriter<D>> writer;
+  std::optional<io::HistoryWriter> steps_csv;  // rank 0's, as the log
+  std::ofstream cutback_log;
+  ranks::on_root([&] {
+    summary.earlier_files_removed =
+        clear_earlier_run(dir, options.restart ? std::optional<std::int64_t>(state.step) : std::nullopt);
+  });
+  ranks::together([&] {
+    writer.emplace(assembler, dir, sc.output, contact,
+                   options.restart ? std::optional<double>(state.time) : std::nullopt);
+    if (!root) return;
+    io::write_atomically(dir / "scenario.toml", sc.text);
+    steps_csv.emplace(dir / "steps.csv", std::vector<std::string>{"step", "time", "dt", "cutbacks"});
+    cutback_log.open(dir / "cutbacks.log", state.step > 0 ? std::ios::app : std::ios::trunc);
+  });
+  OutputWriter<D>& output = *writer;
   const std::int64_t max_steps = options.max_steps.value_or(std::numeric_limits<std::int64_t>::max());
   if (!options.restart) {
     const StepRecord none;
     const StepFigures figures = figures_of<D>(none, d0, contact);
-    output.write(state, figures, drift.add(d0, totals.drift), finished(sc.time, state) || max_steps == 0);
+    const Drifts drifts = drift.add(d0, totals.drift);
+    ranks::together([&] {
+      output.write(state, figures, drifts, finished(sc.time, state) || max_steps == 0);
+      if (steps_csv) steps_csv->write_row({0.0, state.time, 0.0, 0.0});
+    });
     totals.statistics.add(figures, false);
-    steps_csv.write_row({0.0, state.time, 0.0, 0.0});
   }
   auto save = [&](const model::State& s) {
     const auto file = checkpoint_path(dir, s.step);
-    write_checkpoint<D>(
-        file, {fingerprint, s, control, totals, contact ? contact->save() : std::string(), integrator.save()});
+    ranks::on_root([&] {
+      write_checkpoint<D>(
+          file, {fingerprint, s, control, totals, contact ? contact->save() : std::string(), integrator.save()});
+    });
     return file;
   };
   summary.setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
@@ -149,7 +172,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
       record = stepper.advance(state, dt, failures);
     } catch (const FloorReached& f) {
       progress.finish();
-      output.write_snapshot(state);
+      ranks::together([&] { output.write_snapshot(state); });
       const auto file = save(state);
       throw SolverError(fmt::format(
           "step {} failed even with Δt = {:.6g} s ([time].min_step = {:.6g} s): {}; the last converged state "
@@ -161,7 +184,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     if (failures > 0) {  // why, for the user and in the output folder
       const std::string line =
           fmt::format("step {}: {} failed attempt(s), the last: {}\n", state.step, failures, stepper.last_failure());
-      cutback_log << line << std::flush;
+      if (root) cutback_log << line << std::flush;
       if (options.progress) fmt::print(options.progress, "\ncutback at {}", line);
     }
     time::Diagnostics d = time::diagnostics<D>(assembler, state);
@@ -178,8 +201,11 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     const bool last = taken + 1 == max_steps || finished(sc.time, state);  // of this invocation
     {
       solver::ScopedTimer timer(summary.output_seconds);
-      output.write(state, figures, drifts, last);
-      steps_csv.write_row({static_cast<double>(state.step), state.time, dt, static_cast<double>(failures)});
+      ranks::together([&] {
+        output.write(state, figures, drifts, last);
+        if (steps_csv)
+          steps_csv->write_row({static_cast<double>(state.step), state.time, dt, static_cast<double>(failures)});
+      });
     }
     totals.statistics.add(figures, true);
     const bool due = sc.output.checkpoint_every > 0 && state.step % sc.output.checkpoint_every == 0;
@@ -187,7 +213,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
     if (due || !summary.stopped.empty()) {
       solver::ScopedTimer timer(summary.output_seconds);
       summary.stop_checkpoint = save(state);
-      prune_checkpoints(dir, state.step, sc.output.checkpoint_keep);
+      ranks::on_root([&] { prune_checkpoints(dir, state.step, sc.output.checkpoint_keep); });
     }
     // This invocation ends at the end time or after max_steps, whichever
     // comes first; the steps left are estimated at the current Δt.
@@ -221,7 +247,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.most_threads = stepper.threads().most();
   summary.wall_seconds = progress.elapsed();
   summary.vtu_frames = output.frames();
-  summary.vtu_bytes = output.frame_bytes();
+  summary.vtu_bytes = static_cast<std::uintmax_t>(ranks::sum(static_cast<double>(output.frame_bytes())));
+  summary.ranks = ranks::size();
+  summary.row_ranges = integrator.linear_solver().row_ranges();
+  summary.peak_memory_bytes = ranks::max(peak_memory_bytes());
   summary.timings = integrator.timings();
   summary.linear_solver = integrator.linear_solver().name();
   if (contact) {
@@ -235,7 +264,8 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
       }
     summary.body_penetration = body_penetration<D>(*contact, problem.model, u_last_start, state.u);
   }
-  io::write_atomically(dir / "summary.json", summary_json(summary, problem.model.num_dofs(), origin));
+  ranks::on_root(
+      [&] { io::write_atomically(dir / "summary.json", summary_json(summary, problem.model.num_dofs(), origin)); });
   return summary;
 }
 

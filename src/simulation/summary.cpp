@@ -1,15 +1,22 @@
 #include "simulation/summary.hpp"
 
+#include <sys/resource.h>
 #include <cmath>
 #include <ctime>
 #include <nlohmann/json.hpp>
-#include <sys/resource.h>
 #include <thread>
 
 #include "core/build_info.hpp"
 #include "io/sha256.hpp"
 
 namespace conserve::simulation {
+
+double peak_memory_bytes() {
+  rusage own{};
+  getrusage(RUSAGE_SELF, &own);
+  return 1024.0 * static_cast<double>(own.ru_maxrss);  // Linux reports kB
+}
+
 namespace {
 
 using Json = nlohmann::ordered_json;  // keys in the order written
@@ -25,23 +32,18 @@ Json input(const InputFile& f, bool with_body) {
 Json drifts(const RunSummary& s);
 Json not_conserved(const RunSummary& s);
 
-/// The process's peak resident memory so far [bytes] (Linux reports kB).
-double peak_memory_bytes() {
-  rusage own{};
-  getrusage(RUSAGE_SELF, &own);
-  return 1024.0 * static_cast<double>(own.ru_maxrss);
-}
-
 /// The figures summary.json has always had (bench/make_table.py reads them).
 Json figures(const RunSummary& s, int unknowns) {
   const auto& t = s.timings;
-  const double peak = peak_memory_bytes();
+  const double peak = s.peak_memory_bytes > 0.0 ? s.peak_memory_bytes : peak_memory_bytes();
   Json settings = Json::object();
   for (const auto& [name, value] : s.contact_settings) settings[name] = value;
   return Json{{"steps", s.steps},
               {"unknowns", unknowns},
               {"wall_seconds", s.wall_seconds},
               {"setup_seconds", s.setup_seconds},
+              {"ranks", s.ranks},
+              {"row_ranges", s.row_ranges},
               {"peak_memory_bytes", peak},
               {"bytes_per_unknown", unknowns > 0 ? peak / unknowns : 0.0},
               {"drift", drifts(s)},

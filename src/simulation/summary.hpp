@@ -18,7 +18,7 @@ namespace conserve::simulation {
 
 /// What a finished run measured.
 struct RunSummary {
-  std::int64_t steps = 0;  ///< steps taken by this invocation
+  std::int64_t steps = 0;     ///< steps taken by this invocation
   double wall_seconds = 0.0;  ///< the time loop's
   /// From the scenario to the first step: meshes read or generated, the
   /// model, its pattern and solver, the output folder and step 0 written.
@@ -48,7 +48,13 @@ struct RunSummary {
   double output_seconds = 0.0;   ///< writing history and VTU files
   std::int64_t vtu_frames = 0;   ///< VTU files written by this invocation
   std::uintmax_t vtu_bytes = 0;  ///< their size [bytes]
-  std::int64_t cutbacks = 0;     ///< failed step attempts retried with Δt halved
+  /// The MPI ranks the run used (solver/ranks.hpp), and the largest of
+  /// their peak resident memories [bytes] (0: this process's, read when
+  /// summary.json is written).
+  int ranks = 1;
+  std::vector<std::int64_t> row_ranges;  ///< LinearSolver::row_ranges() of the last matrix
+  double peak_memory_bytes = 0.0;
+  std::int64_t cutbacks = 0;  ///< failed step attempts retried with Δt halved
   /// The assembly's threads: why (assembly::ThreadGovernor::policy), and
   /// the fewest and most used.
   std::string thread_policy;
@@ -109,5 +115,8 @@ std::string utc_timestamp(std::chrono::system_clock::time_point t);
 /// Always valid JSON: strings are escaped (bytes that are not UTF-8
 /// become U+FFFD), non-finite numbers are null.
 std::string summary_json(const RunSummary& s, int unknowns, const RunOrigin& origin);
+
+/// This process's peak resident memory so far [bytes].
+double peak_memory_bytes();
 
 }  // namespace conserve::simulation

@@ -12,6 +12,8 @@
 #include "core/error.hpp"
 #include "solver/direct_solver.hpp"
 #include "solver/petsc_session.hpp"
+#include "solver/petsc_system.hpp"
+#include "solver/ranks.hpp"
 
 namespace conserve::solver {
 
@@ -88,18 +90,23 @@ struct StagnationTest {
 struct KrylovSolver::Petsc {
   Preconditioner kind;
   LinearSolverSettings settings;
+  /// On several ranks the system is distributed (rows by rank, block
+  /// Jacobi with ILU(0) in each rank's block instead of ILU(0)); on one,
+  /// the sequential matrix below.
+  bool distributed = ranks::size() > 1;
+  petsc::DistributedSystem system;
   ::Mat A = nullptr;
   KSP ksp = nullptr;
   ::Vec b = nullptr, x = nullptr;
   bool operators_set = false;
-  std::vector<int> outer, inner;    ///< the CSC pattern the matrix was made for
+  std::vector<int> outer, inner;            ///< the CSC pattern the matrix was made for
   std::vector<PetscInt> row_start, column;  ///< the PETSc matrix's (block) CSR pattern
-  std::vector<int> to;              ///< CSC position → position in the PETSc values
-  int block_size = 1;               ///< D for BAIJ, 1 for AIJ
-  Eigen::MatrixXd X;                ///< reference coordinates (GAMG's rigid-body modes)
-  const SparseMatrix* last = nullptr;  ///< the matrix of set_operator (valid until the next)
-  std::unique_ptr<DirectSolver> direct;  ///< the fallback, made on first use
-  bool direct_ready = false;             ///< the fallback holds the present matrix
+  std::vector<int> to;                      ///< CSC position → position in the PETSc values
+  int block_size = 1;                       ///< D for BAIJ, 1 for AIJ
+  Eigen::MatrixXd X;                        ///< reference coordinates (GAMG's rigid-body modes)
+  const SparseMatrix* last = nullptr;       ///< the matrix of set_operator (valid until the next)
+  std::unique_ptr<DirectSolver> direct;     ///< the fallback, made on first use
+  bool direct_ready = false;                ///< the fallback holds the present matrix
 
   // The LU first (KrylovSolver::set_operator).
   bool gmres_matrix = false;  ///< the present matrix was set up for GMRES (then direct_ready
@@ -134,6 +141,7 @@ struct KrylovSolver::Petsc {
 
   void destroy() {
     if (ksp) KSPDestroy(&ksp);
+    if (distributed) return;  // the system owns them
     if (A) MatDestroy(&A);
     if (b) VecDestroy(&b);
     if (x) VecDestroy(&x);
@@ -144,7 +152,7 @@ struct KrylovSolver::Petsc {
   void make_ksp() {
     ++ksps;
     if (ksp) KSPDestroy(&ksp);
-    check(KSPCreate(PETSC_COMM_SELF, &ksp), "KSPCreate");
+    check(KSPCreate(distributed ? PETSC_COMM_WORLD : PETSC_COMM_SELF, &ksp), "KSPCreate");
     check(KSPSetType(ksp, KSPGMRES), "KSPSetType");
     check(KSPGMRESSetRestart(ksp, kRestart), "KSPGMRESSetRestart");
     // Right preconditioning: the tolerance applies to |b − A x| itself.
@@ -154,6 +162,10 @@ struct KrylovSolver::Petsc {
     if (kind == Preconditioner::gamg) {
       check(PCSetType(pc, PCGAMG), "PCSetType(gamg)");
       check(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
+    } else if (distributed) {
+      check(PCSetType(pc, PCBJACOBI), "PCSetType(bjacobi)");
+      by_default("-sub_pc_type", "ilu");
+      by_default("-sub_pc_factor_shift_type", "nonzero");
     } else {
       check(PCSetType(pc, PCILU), "PCSetType(ilu)");
       check(PCFactorSetLevels(pc, 0), "PCFactorSetLevels");
@@ -183,8 +195,12 @@ struct KrylovSolver::Petsc {
     check(KSPGetPC(ksp, &pc), "KSPGetPC");
     check(PCSetType(pc, PCFIELDSPLIT), "PCSetType(fieldsplit)");
     IS first = nullptr, second = nullptr;
-    check(ISCreateStride(PETSC_COMM_SELF, bodies, 0, 1, &first), "ISCreateStride");
-    check(ISCreateStride(PETSC_COMM_SELF, n - bodies, bodies, 1, &second), "ISCreateStride");
+    // Each rank names its own rows of either field.
+    const PetscInt begin = distributed ? system.first_row() : 0, end = distributed ? system.end_row() : n;
+    const PetscInt middle = std::clamp(bodies, begin, end);
+    const MPI_Comm comm = distributed ? PETSC_COMM_WORLD : PETSC_COMM_SELF;
+    check(ISCreateStride(comm, middle - begin, begin, 1, &first), "ISCreateStride");
+    check(ISCreateStride(comm, end - middle, middle, 1, &second), "ISCreateStride");
     check(PCFieldSplitSetIS(pc, "u", first), "PCFieldSplitSetIS");
     check(PCFieldSplitSetIS(pc, "lambda", second), "PCFieldSplitSetIS");
     ISDestroy(&first);
@@ -194,23 +210,27 @@ struct KrylovSolver::Petsc {
     check(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_SELFP, nullptr), "PCFieldSplitSetSchurPre");
     // The program's choices for the two blocks, unless [solver]
     // petsc_options (or the command line's PETSc options) set them.
-    const auto by_default = [](const std::string& name, const char* value) {
-      PetscBool set = PETSC_FALSE;
-      check(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set), "PetscOptionsHasName");
-      if (!set) check(PetscOptionsSetValue(nullptr, name.c_str(), value), "PetscOptionsSetValue");
-    };
     for (const char* field : {"u", "lambda"}) {
       const std::string prefix = std::string("-fieldsplit_") + field + "_";
       by_default(prefix + "ksp_type", "preonly");
-      by_default(prefix + "pc_type", "ilu");
-      by_default(prefix + "pc_factor_shift_type", "nonzero");
+      by_default(prefix + "pc_type", distributed ? "bjacobi" : "ilu");
+      by_default(prefix + (distributed ? "sub_pc_factor_shift_type" : "pc_factor_shift_type"), "nonzero");
     }
     check(PCSetFromOptions(pc), "PCSetFromOptions");
     split = true;
   }
   bool split = false;  ///< a saddle-point system has been split (name())
 
+  /// Sets a PETSc option unless [solver] petsc_options (or the command
+  /// line's PETSc options) set it.
+  static void by_default(const std::string& name, const char* value) {
+    PetscBool set = PETSC_FALSE;
+    check(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set), "PetscOptionsHasName");
+    if (!set) check(PetscOptionsSetValue(nullptr, name.c_str(), value), "PetscOptionsSetValue");
+  }
+
   [[nodiscard]] bool same_pattern(const SparseMatrix& M) const {
+    if (distributed) return system.same_pattern(M);
     return static_cast<Eigen::Index>(outer.size()) == M.outerSize() + 1 &&
            static_cast<Eigen::Index>(inner.size()) == M.nonZeros() &&
            std::equal(outer.begin(), outer.end(), M.outerIndexPtr()) &&
@@ -230,6 +250,15 @@ struct KrylovSolver::Petsc {
     // extra unknowns (contact multipliers) has rows that are no node's.
     const bool nodal = dim > 0 && n == static_cast<int>(X.size());
     const bool blocked = kind == Preconditioner::ilu && dim > 1 && nodal;
+    if (distributed) {
+      const int nodal_rows = nodal ? n : std::min(n, static_cast<int>(X.size()));
+      system.make(M, std::max(dim, 1), nodal_rows, blocked);
+      A = system.matrix(), b = system.rhs(), x = system.solution();
+      block_size = blocked ? dim : 1;
+      if (kind == Preconditioner::gamg && dim > 0 && X.size() == n) set_rigid_body_modes(dim);
+      operators_set = false;
+      return;
+    }
     if (A) MatDestroy(&A);
     check(MatCreate(PETSC_COMM_SELF, &A), "MatCreate");
     check(MatSetSizes(A, n, n, n, n), "MatSetSizes");
@@ -243,8 +272,7 @@ struct KrylovSolver::Petsc {
       new_scalar_pattern(n);
       check(MatSetType(A, MATSEQAIJ), "MatSetType");
       if (nodal) check(MatSetBlockSize(A, dim), "MatSetBlockSize");
-      check(MatSeqAIJSetPreallocationCSR(A, row_start.data(), column.data(), nullptr),
-            "MatSeqAIJSetPreallocationCSR");
+      check(MatSeqAIJSetPreallocationCSR(A, row_start.data(), column.data(), nullptr), "MatSeqAIJSetPreallocationCSR");
     }
     block_size = blocked ? dim : 1;
     if (kind == Preconditioner::gamg && dim > 0 && X.size() == n) set_rigid_body_modes(dim);
@@ -312,11 +340,16 @@ struct KrylovSolver::Petsc {
 
   void set_rigid_body_modes(int dim) {
     ::Vec coordinates = nullptr;
-    check(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(X.size()), &coordinates), "VecCreateSeq");
+    const PetscInt begin = distributed ? system.first_row() : 0;
+    const PetscInt end = distributed ? system.end_row() : static_cast<PetscInt>(X.size());
+    if (distributed)
+      check(VecCreateMPI(PETSC_COMM_WORLD, end - begin, static_cast<PetscInt>(X.size()), &coordinates), "VecCreateMPI");
+    else
+      check(VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(X.size()), &coordinates), "VecCreateSeq");
     check(VecSetBlockSize(coordinates, dim), "VecSetBlockSize");
     PetscScalar* c = nullptr;
     check(VecGetArrayWrite(coordinates, &c), "VecGetArrayWrite");
-    std::copy(X.data(), X.data() + X.size(), c);  // column-major D × nodes: node-major dofs
+    std::copy(X.data() + begin, X.data() + end, c);  // column-major D × nodes: node-major dofs
     check(VecRestoreArrayWrite(coordinates, &c), "VecRestoreArrayWrite");
     MatNullSpace modes = nullptr;
     check(MatNullSpaceCreateRigidBody(coordinates, &modes), "MatNullSpaceCreateRigidBody");
@@ -326,6 +359,10 @@ struct KrylovSolver::Petsc {
   }
 
   void copy_values(const SparseMatrix& M) {
+    if (distributed) {
+      system.copy_values(M);
+      return;
+    }
     PetscScalar* v = nullptr;
     if (block_size > 1)
       check(MatSeqBAIJGetArray(A, &v), "MatSeqBAIJGetArray");
@@ -361,8 +398,14 @@ KrylovSolver::KrylovSolver(Preconditioner preconditioner, const LinearSolverSett
 KrylovSolver::~KrylovSolver() = default;
 
 std::string KrylovSolver::name() const {
-  const std::string base = petsc_->kind == Preconditioner::gamg ? "GMRES + GAMG" : "GMRES + ILU(0)";
+  const std::string base = petsc_->kind == Preconditioner::gamg ? "GMRES + GAMG"
+                           : petsc_->distributed                ? "GMRES + block Jacobi ILU(0)"
+                                                                : "GMRES + ILU(0)";
   return petsc_->split ? base + ", Schur field split with multipliers" : base;
+}
+
+std::vector<std::int64_t> KrylovSolver::row_ranges() const {
+  return petsc_->distributed ? petsc_->system.row_ranges() : std::vector<std::int64_t>();
 }
 
 void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
@@ -450,10 +493,14 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
   const double tolerance = std::clamp(rtol, 1e-14, 0.5);
   {
     ScopedTimer timer(clock(&Timings::linear_solve));
-    PetscScalar* v = nullptr;
-    check(VecGetArrayWrite(p.b, &v), "VecGetArrayWrite");
-    std::copy(rhs.data(), rhs.data() + rhs.size(), v);
-    check(VecRestoreArrayWrite(p.b, &v), "VecRestoreArrayWrite");
+    if (p.distributed) {
+      p.system.set_rhs(rhs);
+    } else {
+      PetscScalar* v = nullptr;
+      check(VecGetArrayWrite(p.b, &v), "VecGetArrayWrite");
+      std::copy(rhs.data(), rhs.data() + rhs.size(), v);
+      check(VecRestoreArrayWrite(p.b, &v), "VecRestoreArrayWrite");
+    }
     check(KSPSetTolerances(p.ksp, tolerance, 0.0, 1e30, p.settings.max_iterations), "KSPSetTolerances");
     check(KSPSolve(p.ksp, p.b, p.x), "the GMRES solve");
     check(KSPGetIterationNumber(p.ksp, &iterations), "KSPGetIterationNumber");
@@ -475,11 +522,15 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
     if (timings_) ++timings_->linear_fallbacks;
     return fallback(rhs, out);
   }
-  const PetscScalar* r = nullptr;
-  out.resize(rhs.size());
-  check(VecGetArrayRead(p.x, &r), "VecGetArrayRead");
-  std::copy(r, r + rhs.size(), out.data());
-  check(VecRestoreArrayRead(p.x, &r), "VecRestoreArrayRead");
+  if (p.distributed) {
+    p.system.gather_solution(out);
+  } else {
+    const PetscScalar* r = nullptr;
+    out.resize(rhs.size());
+    check(VecGetArrayRead(p.x, &r), "VecGetArrayRead");
+    std::copy(r, r + rhs.size(), out.data());
+    check(VecRestoreArrayRead(p.x, &r), "VecRestoreArrayRead");
+  }
   if (!out.allFinite()) throw SolverError("GMRES gave a non-finite increment");
   return {static_cast<int>(iterations), static_cast<double>(residual)};
 }
@@ -487,7 +538,11 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
 LinearSolve KrylovSolver::fallback(const Eigen::VectorXd& rhs, Eigen::VectorXd& out) {
   Petsc& p = *petsc_;
   if (!p.direct_ready) p.factorize_lu(timings_);
-  return p.direct->solve(rhs, out, 0.0);
+  const LinearSolve solve = p.direct->solve(rhs, out, 0.0);
+  // Every rank factorized the same matrix; rank 0's bits go to all, so
+  // that no rank's state can part from the others'.
+  if (p.distributed) ranks::broadcast(out);
+  return solve;
 }
 
 }  // namespace conserve::solver

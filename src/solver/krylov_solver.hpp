@@ -46,6 +46,7 @@ class KrylovSolver final : public LinearSolver {
   void load_state(const std::string& bytes) override;
   void set_coordinates(const Eigen::MatrixXd& X) override;
   [[nodiscard]] std::string name() const override;
+  [[nodiscard]] std::vector<std::int64_t> row_ranges() const override;
 
  private:
   LinearSolve fallback(const Eigen::VectorXd& b, Eigen::VectorXd& x);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/types.hpp"
 #include "solver/timings.hpp"
@@ -77,6 +78,9 @@ class LinearSolver {
   /// Reference coordinates of the nodes (D × nodes) for preconditioners
   /// that use the rigid-body modes; ignored by the others.
   virtual void set_coordinates(const Eigen::MatrixXd& /*X*/) {}
+  /// On several ranks, the present matrix's rows by rank: each rank's
+  /// first row, then the number of rows (empty on one rank).
+  [[nodiscard]] virtual std::vector<std::int64_t> row_ranges() const { return {}; }
   /// "UMFPACK LU", "GMRES + ILU(0)", ... for the run's report.
   [[nodiscard]] virtual std::string name() const = 0;
   /// Where time went (may be null).

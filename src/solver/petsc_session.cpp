@@ -24,7 +24,8 @@ struct Session {
     // Errors must reach the caller as exceptions, not as PETSc's
     // traceback on stderr or its signal handler.
     PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
-    // MPI is started here, not by PETSc, and left to the process's exit.
+    // MPI is started here, not by PETSc; finalize() ends it (a parallel
+    // run must), else it is left to the process's exit.
     // What MPI and PETSc allocate while starting lives as long as the
     // process, partly in plug-ins OpenMPI unloads again; under the
     // sanitizers it is not counted as leaked (scripts/sanitize.sh).
@@ -34,17 +35,42 @@ struct Session {
     int started = 0;
     MPI_Initialized(&started);
     if (!started && MPI_Init(nullptr, nullptr) != MPI_SUCCESS) throw SolverError("MPI could not be initialised");
+    owns_mpi = !started;
     if (PetscInitializeNoArguments() != 0) throw SolverError("PETSc could not be initialised");
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
   }
-  ~Session() { PetscFinalize(); }
+  ~Session() { end(); }
+  void end() {
+    PetscBool done = PETSC_TRUE;
+    PetscFinalized(&done);
+    if (!done) PetscFinalize();
+    int finalized = 1;
+    MPI_Finalized(&finalized);
+    if (owns_mpi && !finalized && ending) MPI_Finalize();
+  }
+  bool owns_mpi = false;
+  bool ending = false;  ///< finalize() was called: MPI ends too
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 };
 
+Session& session() {
+  static Session instance;
+  return instance;
+}
+
 }  // namespace
 
-void ensure_initialized() { static const Session session; }
+void ensure_initialized() { session(); }
+
+void finalize() {
+  int started = 0;
+  MPI_Initialized(&started);
+  if (!started) return;
+  Session& s = session();
+  s.ending = true;
+  s.end();
+}
 
 void check(int code, const char* what) {
   if (code == 0) return;

@@ -1,0 +1,209 @@
+#!/usr/bin/python3
+"""`conserve run` on N MPI ranks (issue 56) against the same run on one
+process: conservation, contact whose slaves and master facets lie on
+different ranks (every constraint method), SIGTERM/SIGUSR1 and restart,
+bad input, determinism, and the .pvtu output in VTK's reader and meshio.
+
+Usage: /usr/bin/python3 tests/mpi/test_ranks.py CONSERVE MPIEXEC N
+(only /usr/bin/python3 has Debian's python3-vtk9 and python3-meshio).
+"""
+import json
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+import compare_histories  # noqa: E402
+
+CONSERVE = MPIEXEC = None
+RANKS = 1
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+BARS = ROOT / "examples" / "validation" / "bars_2d.toml"
+BALL = ROOT / "examples" / "ball" / "ball_on_plane.toml"
+FLIGHT = ROOT / "examples" / "ball" / "ball_flight.toml"
+ENV = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+AGREE = 1e-9  # E, L, J and gaps against the one-process run, relative (scripts/compare_histories.py)
+
+
+def command(ranks, *args):
+    """ranks = 0: the process alone, without a launcher (the reference)."""
+    launcher = [MPIEXEC, "-q", "-n", str(ranks)] if ranks > 0 else []
+    return launcher + [CONSERVE, *map(str, args)]
+
+
+def run(ranks, scenario, out, *extra, check=True):
+    p = subprocess.run(command(ranks, "run", scenario, "-o", out, "-q", *extra), env=ENV, capture_output=True,
+                       text=True, timeout=600)
+    if check and p.returncode != 0:
+        raise AssertionError(f"exit {p.returncode}: {p.stderr}")
+    return p
+
+
+history = compare_histories.history
+
+
+def summary(out):
+    return json.loads((pathlib.Path(out) / "summary.json").read_text())
+
+
+class Ranks(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = pathlib.Path(self.tmp.name)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def assert_same_trajectory(self, one, many):
+        """E, L, J and the gaps within AGREE of their scales
+        (scripts/compare_histories.py); the active contacts step by step
+        the same (a dropped or doubled constraint would change them)."""
+        d = compare_histories.compare(one, many)
+        self.assertEqual(d["rows"][0], d["rows"][1])
+        for quantity in ("E", "L", "J", "gap"):
+            self.assertLessEqual(d[quantity], AGREE, quantity)
+        self.assertTrue(d["active_contacts_equal"])
+        if RANKS == 1:  # under the launcher, the same program as without
+            self.assertEqual((pathlib.Path(one) / "history.csv").read_bytes(),
+                             (pathlib.Path(many) / "history.csv").read_bytes())
+
+    def assert_conserved(self, out, bound=1e-10):
+        s = summary(out)
+        self.assertEqual(s["ranks"], RANKS)
+        self.assertTrue(s["drift"], "no conserved quantity")
+        for name, drift in s["drift"].items():
+            self.assertLessEqual(drift, bound, name)
+
+    def test_free_body_conserves_and_follows_one_process(self):
+        args = ("--set", "body.ball.mesh.size=0.15", "--steps", 30)
+        run(0, FLIGHT, self.dir / "one", *args)
+        run(RANKS, FLIGHT, self.dir / "many", *args)
+        self.assert_conserved(self.dir / "many")
+        self.assert_same_trajectory(self.dir / "one", self.dir / "many")
+
+    def test_contact_across_ranks_every_method(self):
+        """On two ranks the bars' slaves (A:xmax) are all on rank 0 and
+        their master facets (B:xmin) on rank 1: row_ranges shows the cut
+        (with elimination: penalty's and the multipliers' entries move it)."""
+        text = BARS.read_text()
+        variants = {
+            "paper": (text, ()),
+            "persistent": (text, ("--set", "active_set.scheme=persistent")),
+            "lagrange": (text.replace('kind = "frictionless"', 'kind = "frictionless"\nmethod = "lagrange"'), ()),
+            "penalty": (text.replace('kind = "frictionless"', 'kind = "frictionless"\nmethod = "penalty"'), ()),
+        }
+        for name, (scenario_text, extra) in variants.items():
+            with self.subTest(name):
+                scenario = self.dir / f"{name}.toml"
+                scenario.write_text(scenario_text)
+                args = (*extra, "--steps", 150, "--set", "output.vtu_every=0")
+                run(0, scenario, self.dir / f"{name}1", *args)
+                run(RANKS, scenario, self.dir / f"{name}N", *args)
+                self.assert_conserved(self.dir / f"{name}N")
+                self.assert_same_trajectory(self.dir / f"{name}1", self.dir / f"{name}N")
+                self.assertGreater(max(history(self.dir / f"{name}N")["active_contacts"]), 0)
+                ranges = summary(self.dir / f"{name}N")["row_ranges"]
+                if RANKS > 1:
+                    self.assertEqual(len(ranges), RANKS + 1)
+                    if RANKS == 2 and name in ("paper", "persistent"):  # the two bars' 504 dofs each
+                        self.assertEqual(ranges, [0, 504, 1008])
+                else:
+                    self.assertEqual(ranges, [])
+
+    def test_ball_stick_3d(self):
+        args = ("--set", "body.ball.mesh.size=0.12", "--set", "body.ball.translate=[0.0,0.0,0.405]", "--steps", 40,
+                "--set", "output.vtu_every=0")
+        run(0, BALL, self.dir / "one", *args)
+        run(RANKS, BALL, self.dir / "many", *args)
+        self.assert_conserved(self.dir / "many")
+        self.assert_same_trajectory(self.dir / "one", self.dir / "many")
+        self.assertGreater(max(history(self.dir / "many")["active_contacts"]), 0)
+
+    def test_same_ranks_same_bits(self):
+        args = ("--steps", 120, "--set", "output.vtu_every=0")
+        run(RANKS, BARS, self.dir / "a", *args)
+        run(RANKS, BARS, self.dir / "b", *args)
+        self.assertEqual((self.dir / "a" / "history.csv").read_bytes(), (self.dir / "b" / "history.csv").read_bytes())
+
+    def test_stop_signal_checkpoint_and_restart_bit_for_bit(self):
+        """A signal to every rank (as a batch system sends it) ends the run
+        after the step under way with a checkpoint; continuing from it gives
+        the uninterrupted run's history byte for byte."""
+        args = ("--set", "body.ball.mesh.size=0.12", "--set", "output.vtu_every=0", "--set",
+                "output.checkpoint_every=0")
+        end = ("--set", "time.end=0.3")
+        run(RANKS, FLIGHT, self.dir / "whole", *args, *end)
+        out = self.dir / "stopped"
+        p = subprocess.Popen(command(RANKS, "run", FLIGHT, "-o", out, "-q", *args, *end), env=ENV,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+        steps = out / "steps.csv"
+        deadline = time.time() + 300
+        while time.time() < deadline and (not steps.exists() or len(steps.read_text().splitlines()) < 20):
+            time.sleep(0.05)
+        # Every process of the run: the ranks (and the launcher, which forwards it).
+        os.killpg(p.pid, signal.SIGUSR1)
+        _, err = p.communicate(timeout=300)
+        self.assertEqual(p.returncode, 5, err)
+        self.assertEqual(err.count("conserve: stopped by SIGUSR1"), 1, err)
+        checkpoints = sorted((out / "checkpoints").glob("ckpt_*.bin"))
+        self.assertEqual(len(checkpoints), 1)
+        self.assertTrue(summary(out)["stopped"])
+        # On another rank count (the process alone) it continues too, to
+        # the solvers' tolerance.
+        alone = self.dir / "alone"
+        shutil.copytree(out, alone)
+        run(RANKS, FLIGHT, out, *args, *end, "--restart", checkpoints[0])
+        self.assertEqual((self.dir / "whole" / "history.csv").read_bytes(), (out / "history.csv").read_bytes())
+        run(0, FLIGHT, alone, *args, *end, "--restart", alone / "checkpoints" / checkpoints[0].name)
+        self.assert_same_trajectory(self.dir / "whole", alone)
+
+    def test_bad_input_one_line_exit_1(self):
+        bad = self.dir / "bad.toml"
+        bad.write_text("dimension = 2\n[time]\nstep = -1\n")
+        p = run(RANKS, bad, self.dir / "out", check=False)
+        self.assertEqual(p.returncode, 1)
+        lines = [l for l in p.stderr.splitlines() if l.startswith("conserve:")]
+        self.assertEqual(len(lines), 1, p.stderr)
+        self.assertFalse((self.dir / "out").exists())
+
+    def test_pvtu_in_vtk_and_meshio(self):
+        if RANKS < 2:
+            self.skipTest("one rank writes .vtu files")
+        import meshio
+        from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader, vtkXMLUnstructuredGridReader
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        args = ("--steps", 20)
+        run(0, BARS, self.dir / "one", *args)
+        run(RANKS, BARS, self.dir / "many", *args)
+        pvd = (self.dir / "many" / "solution.pvd").read_text()
+        self.assertIn("vtu/step_000020.pvtu", pvd)
+        serial = vtkXMLUnstructuredGridReader()
+        serial.SetFileName(str(self.dir / "one" / "vtu" / "step_000020.vtu"))
+        serial.Update()
+        parallel = vtkXMLPUnstructuredGridReader()
+        parallel.SetFileName(str(self.dir / "many" / "vtu" / "step_000020.pvtu"))
+        parallel.Update()
+        a, b = serial.GetOutput(), parallel.GetOutput()
+        self.assertEqual(a.GetNumberOfCells(), b.GetNumberOfCells())
+        self.assertGreaterEqual(b.GetNumberOfPoints(), a.GetNumberOfPoints())  # pieces share their border points
+        for name in ("stress", "body"):
+            x = vtk_to_numpy(a.GetCellData().GetArray(name))
+            y = vtk_to_numpy(b.GetCellData().GetArray(name))
+            self.assertEqual(x.shape, y.shape)
+            self.assertLessEqual(abs(x - y).max(), 1e-6 * abs(x).max(), name)
+        self.assertIsNotNone(b.GetPointData().GetArray("displacement"))
+        mesh = meshio.read(self.dir / "many" / "vtu" / f"step_000020_{RANKS - 1}.vtu")
+        self.assertIn("displacement", mesh.point_data)
+        self.assertGreater(sum(len(c.data) for c in mesh.cells), 0)
+
+
+if __name__ == "__main__":
+    CONSERVE, MPIEXEC, RANKS = sys.argv[1], sys.argv[2], int(sys.argv[3])
+    unittest.main(argv=[sys.argv[0], "-v"])
