@@ -60,7 +60,8 @@ for path in scenarios:
     for run, label in ((one, "1"), (many, ranks)):
         s = json.load(open(f"{run}/summary.json"))
         solves = max(s["linear_solves"], 1)
-        parts = (f"{d['E']:.1e} / {d['L']:.1e} / {d['J']:.1e} / {d['gap']:.1e}" if run == many else "")
+        parts = (f"{d['E']:.1e} / {d['L']:.1e} / {d['J']:.1e} / {d['gap']:.1e} ({d['gap_m']:.1e} m, "
+                 f"{d['gap_of_size']:.1e} of the model's size)" if run == many else "")
         same = ("same" if d["active_contacts_equal"] else "differ") if run == many else ""
         out.append(f"| {name} | {label} | {s['wall_seconds']:.1f} | {s['mean_newton_iterations']:.2f} | "
                    f"{s['linear_iterations'] / solves:.1f} | {s['linear_solver']} | "

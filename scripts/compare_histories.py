@@ -43,6 +43,9 @@ def compare(run_a, run_b):
                     continue
                 worst = max(worst, abs(x - y) / scale[group] if not (math.isnan(x) or math.isnan(y)) else math.inf)
         out[group] = worst
+        if group == "gap":
+            out["gap_m"] = worst * scale[group]  # [m]
+            out["gap_of_size"] = worst * scale[group] / size
     out["active_contacts_equal"] = a["active_contacts"] == b["active_contacts"]
     return out
 

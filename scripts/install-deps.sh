@@ -11,7 +11,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libopenblas-dev libmetis-dev
-  petsc-dev openmpi-bin
+  petsc-dev openmpi-bin libscotch-dev
   libgmsh-dev gmsh
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev libssl-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev

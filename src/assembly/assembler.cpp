@@ -33,8 +33,7 @@ std::vector<double> per_cell(int num_cells, const Value& value) {
 
 template <int D>
 Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
-    : model_(model),
-      pattern_(model.num_nodes(), model.cells) {
+    : model_(model), pattern_(model.num_nodes(), model.cells), rank_nodes_{0, model.num_nodes()} {
   std::vector<Eigen::Triplet<double>> node_entries;
   node_entries.reserve(static_cast<std::size_t>(model.num_cells()) * (D + 1) * (D + 1));
   for (int c = 0; c < model.num_cells(); ++c) {
@@ -113,15 +112,49 @@ const NodePartition& Assembler<D>::partition() const {
   const int parts = model_.num_cells() >= kMinParallelCells ? std::max(threads(), 1) : 1;
   if (partition_.num_parts() != parts) {
     partition_ = partition_nodes(model_.num_nodes(), model_.cells, parts);
-    scratch_.assign(static_cast<std::size_t>(parts), {});
+    if (scratch_.size() < static_cast<std::size_t>(parts)) scratch_.resize(static_cast<std::size_t>(parts));
   }
   return partition_;
 }
 
 template <int D>
+void Assembler<D>::share(RankShare share) {
+  share_ = std::move(share);
+  rank_nodes_ = share_.ranks > 1 ? partition_nodes(model_.num_nodes(), model_.cells, share_.ranks).first_node
+                                 : std::vector<int>{0, model_.num_nodes()};
+  rank_partition_ = {};
+}
+
+template <int D>
+const NodePartition& Assembler<D>::rank_partition() const {
+  if (share_.ranks <= 1) return partition();
+  const auto [first, end] = rank_nodes();
+  const int parts = model_.num_cells() >= kMinParallelCells * share_.ranks ? std::max(threads(), 1) : 1;
+  if (rank_partition_.num_parts() != parts) {
+    rank_partition_ = partition_nodes(model_.num_nodes(), model_.cells, parts, first, end);
+    if (static_cast<int>(scratch_.size()) < parts) scratch_.resize(static_cast<std::size_t>(parts));
+  }
+  return rank_partition_;
+}
+
+template <int D>
+void Assembler<D>::gather(Eigen::VectorXd* f, Eigen::VectorXd* magnitude, SparseMatrix* K) const {
+  if (share_.ranks <= 1) return;
+  std::vector<int> counts(static_cast<std::size_t>(share_.ranks));
+  for (int r = 0; r < share_.ranks; ++r) counts[r] = (rank_nodes_[r + 1] - rank_nodes_[r]) * D;
+  if (f) share_.gather(f->data(), counts);
+  if (magnitude) share_.gather(magnitude->data(), counts);
+  if (K) {  // the ranks' nodes' block columns
+    const int* outer = K->outerIndexPtr();
+    for (int r = 0; r < share_.ranks; ++r) counts[r] = outer[rank_nodes_[r + 1] * D] - outer[rank_nodes_[r] * D];
+    share_.gather(K->valuePtr(), counts);
+  }
+}
+
+template <int D>
 void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                                       Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
-  const NodePartition& parts = partition();
+  const NodePartition& parts = rank_partition();
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
     Eigen::VectorXd& local = scratch_[p].force;
@@ -130,9 +163,8 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
     if (magnitude) local_magnitude.setZero(size);
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
-      const fem::NodeMatrix<D> fe = fem::internal_force<D>(model_.geometry[c], law(c),
-                                                           start[static_cast<std::size_t>(c)],
-                                                           cell_positions(c, u_np1), scheme);
+      const fem::NodeMatrix<D> fe = fem::internal_force<D>(
+          model_.geometry[c], law(c), start[static_cast<std::size_t>(c)], cell_positions(c, u_np1), scheme);
       for (int a = 0; a <= D; ++a) {
         if (!(parts.visit_owned[v] >> a & 1u)) continue;
         const int at = (model_.cells(a, c) - first) * D;
@@ -143,6 +175,7 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
     f.segment(first * D, size) += local;
     if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
   });
+  gather(&f, magnitude, nullptr);
 }
 
 template <int D>
@@ -176,7 +209,7 @@ template <int D>
 void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                                Eigen::VectorXd* f, Eigen::VectorXd* magnitude, SparseMatrix& K) const {
   double* values = K.valuePtr();
-  const NodePartition& parts = partition();
+  const NodePartition& parts = rank_partition();
   if (!f) magnitude = nullptr;
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
@@ -203,6 +236,7 @@ void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_
     if (f) f->segment(first * D, size) += local;
     if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
   });
+  gather(f, magnitude, &K);
 }
 
 template <int D>

@@ -7,7 +7,9 @@
 /// part of the nodes that owns it (assembly/partition.hpp), and sums and
 /// minima over cells go in cell order. An Assembler serves one caller at a
 /// time: its loops keep per-part buffers between calls.
+#include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "assembly/block_pattern.hpp"
@@ -23,6 +25,18 @@ struct Orientation {
   int cell = -1;       ///< global cell, −1 if there are no cells
 };
 
+/// How the ranks of a run share the assembly's work (solver/ranks.hpp):
+/// rank `rank` of `ranks` computes the force and tangent entries of its own
+/// range of nodes (the ranges of partition_nodes(…, ranks)), and `gather`
+/// gives every rank the others': gather(data, counts) replaces each rank's
+/// segment of `data` (counts[r] values, in rank order) by that rank's. The
+/// entries are the bits one process computes (each sums its cells in
+/// ascending order, assembly/partition.hpp).
+struct RankShare {
+  int rank = 0, ranks = 1;
+  std::function<void(double* data, const std::vector<int>& counts)> gather;
+};
+
 template <int D>
 class Assembler {
  public:
@@ -35,6 +49,13 @@ class Assembler {
   /// threads (one part below kMinParallelCells cells); remade when that
   /// number changes.
   [[nodiscard]] const NodePartition& partition() const;
+  /// Shares the forces' and tangents' work among ranks from now on (the
+  /// state measures and energies stay whole on each rank).
+  void share(RankShare share);
+  /// This rank's nodes [first, end) (all nodes on one rank).
+  [[nodiscard]] std::pair<int, int> rank_nodes() const {
+    return {rank_nodes_[share_.rank], rank_nodes_[share_.rank + 1]};
+  }
   /// The nodes' scalar mass matrix M_AB [kg], nodes × nodes: the dofs'
   /// mass matrix is M_AB ⊗ I_D, which is not stored.
   [[nodiscard]] const SparseMatrix& node_mass() const { return node_mass_; }
@@ -87,9 +108,8 @@ class Assembler {
   /// add_internal_force() and add_internal_force_derivative() in one pass
   /// over the cells (each cell's state computed once): the same bits as the
   /// two calls.
-  void add_internal_force_and_derivative(const StepStart& start, const Eigen::VectorXd& u_np1,
-                                         fem::StressScheme scheme, Eigen::VectorXd& f, Eigen::VectorXd& magnitude,
-                                         SparseMatrix& K) const;
+  void add_internal_force_and_derivative(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
+                                         Eigen::VectorXd& f, Eigen::VectorXd& magnitude, SparseMatrix& K) const;
 
   /// What a run needs of a state u besides its steps' residuals, from one
   /// pass over the cells: the same bits as step_start(u), strain_energy(u),
@@ -134,6 +154,14 @@ class Assembler {
   struct Scratch {
     Eigen::VectorXd force, magnitude;
   };
+  /// The parts of this rank's nodes (partition() on one rank).
+  [[nodiscard]] const NodePartition& rank_partition() const;
+  /// Every rank's segments of f, magnitude (may be null) and K's values
+  /// (may be null) from that rank (nothing on one rank).
+  void gather(Eigen::VectorXd* f, Eigen::VectorXd* magnitude, SparseMatrix* K) const;
+  RankShare share_;
+  std::vector<int> rank_nodes_;  ///< rank r has nodes [rank_nodes_[r], rank_nodes_[r+1])
+  mutable NodePartition rank_partition_;
   mutable NodePartition partition_;
   mutable StateMeasures measures_;  ///< measures() of measured_u_
   mutable Eigen::VectorXd measured_u_;

@@ -61,6 +61,10 @@ class BlockPattern {
 
   [[nodiscard]] int num_dofs() const { return static_cast<int>(outer_.size()) - 1; }
   [[nodiscard]] std::size_t non_zeros() const { return static_cast<std::size_t>(outer_.back()); }
+  /// The node graph: node B's neighbours (itself among them, ascending)
+  /// are node_neighbours()[node_offsets()[B] .. node_offsets()[B+1]).
+  [[nodiscard]] const std::vector<int>& node_offsets() const { return offsets_; }
+  [[nodiscard]] const std::vector<int>& node_neighbours() const { return neighbours_; }
 
  private:
   // The row indices are not kept: column B·D+k holds the D rows of each of

@@ -5,7 +5,9 @@
 
 namespace conserve::assembly {
 
-NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int parts) {
+NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int parts, int first, int end) {
+  if (end < 0) end = num_nodes;
+  if (first < 0 || first > end || end > num_nodes) throw std::invalid_argument("partition_nodes: bad node range");
   if (parts < 1) throw std::invalid_argument("partition_nodes: parts must be at least 1");
   if (cells.rows() > 8) throw std::invalid_argument("partition_nodes: at most 8 corners per cell");
   const auto corners = static_cast<long long>(cells.size());
@@ -16,14 +18,16 @@ NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int p
   NodePartition p;
   p.first_node.resize(static_cast<std::size_t>(parts) + 1);
   for (int k = 0; k <= parts; ++k) {
-    // The first node with at least k/parts of the corners before it.
-    const long long target = corners * k / parts;
-    p.first_node[k] = k == parts ? num_nodes
-                                 : static_cast<int>(std::lower_bound(before.begin(), before.end(), target) -
-                                                    before.begin());
+    // The first node with at least k/parts of the range's corners before it.
+    const long long target = before[first] + (before[end] - before[first]) * k / parts;
+    p.first_node[k] =
+        k == 0       ? first
+        : k == parts ? end
+                     : static_cast<int>(std::lower_bound(before.begin() + first, before.begin() + end + 1, target) -
+                                        before.begin());
     if (k > 0) p.first_node[k] = std::max(p.first_node[k], p.first_node[k - 1]);
   }
-  std::vector<int> part_of(num_nodes);
+  std::vector<int> part_of(num_nodes, -1);
   for (int k = 0; k < parts; ++k)
     std::fill(part_of.begin() + p.first_node[k], part_of.begin() + p.first_node[k + 1], k);
 
@@ -35,6 +39,7 @@ NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int p
     int touched[8], num_touched = 0;
     for (int a = 0; a < corners_per_cell; ++a) {
       const int k = part_of[cells(a, c)];
+      if (k < 0) continue;  // a node outside the range
       int t = 0;
       while (t < num_touched && touched[t] != k) ++t;
       if (t == num_touched) touched[num_touched++] = k;

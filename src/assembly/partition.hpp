@@ -35,8 +35,10 @@ struct NodePartition {
 };
 
 /// `parts` (≥ 1) contiguous node ranges holding about equal numbers of
-/// cell corners (the work of adding into them). `cells`: (D+1) × n_cells
-/// node numbers below `num_nodes`, D + 1 ≤ 8.
-NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int parts);
+/// cell corners (the work of adding into them), covering the nodes
+/// [first, end) (end < 0: all nodes); the parts visit only cells with a
+/// corner there. `cells`: (D+1) × n_cells node numbers below `num_nodes`,
+/// D + 1 ≤ 8.
+NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int parts, int first = 0, int end = -1);
 
 }  // namespace conserve::assembly

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "simulation/contact_setup.hpp"
+#include "solver/ranks.hpp"
 
 namespace conserve::simulation {
 
@@ -49,6 +50,9 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
       threads_(scenario.solver.threads, problem_.model.num_cells()) {
   integrator_->set_predictor(scenario.newton.predictor == io::PredictorKind::rigid ? time::Predictor::rigid
                                                                                    : time::Predictor::velocity);
+  // On several ranks each assembles the forces and tangents of its nodes.
+  if (solver::ranks::size() > 1)
+    assembler_->share({solver::ranks::rank(), solver::ranks::size(), &solver::ranks::gather_segments});
 }
 
 template <int D>

@@ -11,6 +11,7 @@
 #include "core/bytes.hpp"
 #include "core/error.hpp"
 #include "solver/direct_solver.hpp"
+#include "solver/graph_partition.hpp"
 #include "solver/petsc_session.hpp"
 #include "solver/petsc_system.hpp"
 #include "solver/ranks.hpp"
@@ -99,14 +100,17 @@ struct KrylovSolver::Petsc {
   KSP ksp = nullptr;
   ::Vec b = nullptr, x = nullptr;
   bool operators_set = false;
-  std::vector<int> outer, inner;            ///< the CSC pattern the matrix was made for
-  std::vector<PetscInt> row_start, column;  ///< the PETSc matrix's (block) CSR pattern
-  std::vector<int> to;                      ///< CSC position → position in the PETSc values
-  int block_size = 1;                       ///< D for BAIJ, 1 for AIJ
-  Eigen::MatrixXd X;                        ///< reference coordinates (GAMG's rigid-body modes)
-  const SparseMatrix* last = nullptr;       ///< the matrix of set_operator (valid until the next)
-  std::unique_ptr<DirectSolver> direct;     ///< the fallback, made on first use
-  bool direct_ready = false;                ///< the fallback holds the present matrix
+  std::vector<int> outer, inner;                     ///< the CSC pattern the matrix was made for
+  std::vector<PetscInt> row_start, column;           ///< the PETSc matrix's (block) CSR pattern
+  std::vector<int> to;                               ///< CSC position → position in the PETSc values
+  int block_size = 1;                                ///< D for BAIJ, 1 for AIJ
+  Eigen::MatrixXd X;                                 ///< reference coordinates (GAMG's rigid-body modes)
+  std::vector<int> graph_offsets, graph_neighbours;  ///< the nodes' graph (set_node_graph)
+  GraphPartition partition;                          ///< on several ranks, the nodes' ranks, made once from the graph
+  bool partitioned = false;
+  const SparseMatrix* last = nullptr;    ///< the matrix of set_operator (valid until the next)
+  std::unique_ptr<DirectSolver> direct;  ///< the fallback, made on first use
+  bool direct_ready = false;             ///< the fallback holds the present matrix
 
   // The LU first (KrylovSolver::set_operator).
   bool gmres_matrix = false;  ///< the present matrix was set up for GMRES (then direct_ready
@@ -252,7 +256,11 @@ struct KrylovSolver::Petsc {
     const bool blocked = kind == Preconditioner::ilu && dim > 1 && nodal;
     if (distributed) {
       const int nodal_rows = nodal ? n : std::min(n, static_cast<int>(X.size()));
-      system.make(M, std::max(dim, 1), nodal_rows, blocked);
+      if (!partitioned && !graph_offsets.empty()) {
+        partition = partition_graph(graph_offsets, graph_neighbours, ranks::size());
+        partitioned = true;
+      }
+      system.make(M, std::max(dim, 1), nodal_rows, blocked, &partition.part);
       A = system.matrix(), b = system.rhs(), x = system.solution();
       block_size = blocked ? dim : 1;
       if (kind == Preconditioner::gamg && dim > 0 && X.size() == n) set_rigid_body_modes(dim);
@@ -349,7 +357,11 @@ struct KrylovSolver::Petsc {
     check(VecSetBlockSize(coordinates, dim), "VecSetBlockSize");
     PetscScalar* c = nullptr;
     check(VecGetArrayWrite(coordinates, &c), "VecGetArrayWrite");
-    std::copy(X.data() + begin, X.data() + end, c);  // column-major D × nodes: node-major dofs
+    // column-major D × nodes: node-major dofs
+    if (distributed)
+      system.local_entries(X.data(), c);
+    else
+      std::copy(X.data() + begin, X.data() + end, c);
     check(VecRestoreArrayWrite(coordinates, &c), "VecRestoreArrayWrite");
     MatNullSpace modes = nullptr;
     check(MatNullSpaceCreateRigidBody(coordinates, &modes), "MatNullSpaceCreateRigidBody");
@@ -401,7 +413,11 @@ std::string KrylovSolver::name() const {
   const std::string base = petsc_->kind == Preconditioner::gamg ? "GMRES + GAMG"
                            : petsc_->distributed                ? "GMRES + block Jacobi ILU(0)"
                                                                 : "GMRES + ILU(0)";
-  return petsc_->split ? base + ", Schur field split with multipliers" : base;
+  std::string name = petsc_->split ? base + ", Schur field split with multipliers" : base;
+  if (petsc_->partitioned)
+    name += fmt::format(" ({} ranks, {} parts, {} edges cut)", ranks::size(),
+                        petsc_->partition.scotch ? "PT-Scotch" : "contiguous", petsc_->partition.cut);
+  return name;
 }
 
 std::vector<std::int64_t> KrylovSolver::row_ranges() const {
@@ -409,6 +425,13 @@ std::vector<std::int64_t> KrylovSolver::row_ranges() const {
 }
 
 void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
+
+void KrylovSolver::set_node_graph(const std::vector<int>& offsets, const std::vector<int>& neighbours) {
+  if (!petsc_->distributed) return;
+  petsc_->graph_offsets = offsets;
+  petsc_->graph_neighbours = neighbours;
+  petsc_->partitioned = false;
+}
 
 void KrylovSolver::reset() {
   Petsc& p = *petsc_;

@@ -81,6 +81,21 @@ void broadcast(Eigen::VectorXd& x, int from) {
   MPI_Bcast(x.data(), static_cast<int>(n), MPI_DOUBLE, from, world());
 }
 
+void broadcast(std::vector<int>& x, int from) {
+  if (size() == 1) return;
+  long n = static_cast<long>(x.size());
+  MPI_Bcast(&n, 1, MPI_LONG, from, world());
+  x.resize(static_cast<std::size_t>(n));
+  MPI_Bcast(x.data(), static_cast<int>(n), MPI_INT, from, world());
+}
+
+void gather_segments(double* data, const std::vector<int>& counts) {
+  if (size() == 1) return;
+  std::vector<int> starts(counts.size(), 0);
+  for (std::size_t r = 1; r < counts.size(); ++r) starts[r] = starts[r - 1] + counts[r - 1];
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, data, counts.data(), starts.data(), MPI_DOUBLE, world());
+}
+
 void together(const std::function<void()>& body, bool root_only) {
   Kind kind = none;
   std::string message;

@@ -7,6 +7,7 @@
 /// be called by every rank, in the same order.
 #include <Eigen/Core>
 #include <functional>
+#include <vector>
 
 namespace conserve::solver::ranks {
 
@@ -25,6 +26,11 @@ namespace conserve::solver::ranks {
 
 /// Rank `from`'s x on every rank, resized there (collective).
 void broadcast(Eigen::VectorXd& x, int from = 0);
+void broadcast(std::vector<int>& x, int from = 0);
+
+/// Every rank's segment of `data` from that rank: data holds the ranks'
+/// segments in rank order, counts[r] values each (collective).
+void gather_segments(double* data, const std::vector<int>& counts);
 
 /// Runs `body` on every rank (`root_only`: on rank 0 alone) and makes its
 /// failure collective: if it throws on any rank, every rank throws the

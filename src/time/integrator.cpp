@@ -26,6 +26,7 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
   mask_ = assembly::DirichletMask(K_, assembler.model().held_dofs());
   solver_->set_timings(&timings_);
   solver_->set_coordinates(assembler.model().X);
+  solver_->set_node_graph(assembler.pattern().node_offsets(), assembler.pattern().node_neighbours());
 }
 
 template <int D>

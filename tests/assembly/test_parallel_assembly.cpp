@@ -7,9 +7,9 @@
 #include <limits>
 #include <random>
 
-#include "material/svk_law.hpp"
 #include "assembly/assembler.hpp"
 #include "assembly/threads.hpp"
+#include "material/svk_law.hpp"
 #include "support/grid_mesh.hpp"
 
 namespace conserve::assembly {
@@ -21,8 +21,10 @@ template <int D>
 model::Model<D> large_model() {
   model::Model<D> m;
   const auto mesh = D == 3 ? test::box_mesh(8, 8, 7, 0.8, 0.8, 0.7) : test::rectangle_mesh(48, 40, 1.2, 1.0);
-  model::add_body<D>(m, mesh, "a", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(1e5, 0.3)), 1200.0, 0.5);
-  model::add_body<D>(m, mesh, "b", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(3e5, 0.2)), 800.0, 0.5);
+  model::add_body<D>(m, mesh, "a", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(1e5, 0.3)),
+                     1200.0, 0.5);
+  model::add_body<D>(m, mesh, "b", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(3e5, 0.2)),
+                     800.0, 0.5);
   return m;
 }
 
@@ -67,24 +69,24 @@ Assembled serial_reference(const Assembler<D>& assembler, const Eigen::VectorXd&
   r.f_tangent.setZero(m.num_dofs());
   r.K = assembler.pattern().make_matrix();
   for (int c = 0; c < m.num_cells(); ++c) {
-      const auto& lame = *m.bodies[m.cell_body[c]].law;
-      const fem::StepPositions<D> x{assembler.cell_positions(c, u_n), assembler.cell_positions(c, u_np1)};
-      const fem::NodeMatrix<D> fe = fem::internal_force<D>(m.geometry[c], lame, x, fem::StressScheme::conserving);
-      fem::NodeMatrix<D> fe_t;
-      fem::ElementMatrix<D> Ke;
-      fem::internal_force_tangent<D>(m.geometry[c], lame, x, fem::StressScheme::conserving, fe_t, Ke);
-      for (int a = 0; a <= D; ++a) {
-        const int dof = m.cells(a, c) * D;
-        r.f.segment<D>(dof) += fe.col(a);
-        r.magnitude.segment<D>(dof) += fe.col(a).cwiseAbs();
-        r.f_tangent.segment<D>(dof) += fe_t.col(a);
-      }
-      for (int b = 0; b <= D; ++b)
-        for (int k = 0; k < D; ++k)
-          for (int a = 0; a <= D; ++a)
-            for (int i = 0; i < D; ++i)
-              r.K.valuePtr()[assembler.pattern().position(c, a, b, i, k)] += Ke(a * D + i, b * D + k);
+    const auto& lame = *m.bodies[m.cell_body[c]].law;
+    const fem::StepPositions<D> x{assembler.cell_positions(c, u_n), assembler.cell_positions(c, u_np1)};
+    const fem::NodeMatrix<D> fe = fem::internal_force<D>(m.geometry[c], lame, x, fem::StressScheme::conserving);
+    fem::NodeMatrix<D> fe_t;
+    fem::ElementMatrix<D> Ke;
+    fem::internal_force_tangent<D>(m.geometry[c], lame, x, fem::StressScheme::conserving, fe_t, Ke);
+    for (int a = 0; a <= D; ++a) {
+      const int dof = m.cells(a, c) * D;
+      r.f.segment<D>(dof) += fe.col(a);
+      r.magnitude.segment<D>(dof) += fe.col(a).cwiseAbs();
+      r.f_tangent.segment<D>(dof) += fe_t.col(a);
     }
+    for (int b = 0; b <= D; ++b)
+      for (int k = 0; k < D; ++k)
+        for (int a = 0; a <= D; ++a)
+          for (int i = 0; i < D; ++i)
+            r.K.valuePtr()[assembler.pattern().position(c, a, b, i, k)] += Ke(a * D + i, b * D + k);
+  }
   r.orientation = {std::numeric_limits<double>::infinity(), -1};
   for (int c = 0; c < m.num_cells(); ++c) {
     const auto x = assembler.cell_positions(c, u_np1);
@@ -196,6 +198,47 @@ TEST(ParallelAssembly, MeasuresOfAStateAreTheSeparatePassesBits) {
   }
   set_threads(threads_before);
 }
+
+/// Ranks that each assemble their own nodes and gather the others' give
+/// the one process's bits (RankShare). The ranks are simulated in one
+/// process: rank r's gather takes the lower ranks' segments from what they
+/// computed before it, so the last rank ends with every segment.
+template <int D>
+void check_rank_share(int ranks) {
+  const model::Model<D> model = large_model<D>();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  Eigen::VectorXd u_n(model.num_dofs()), u_np1(model.num_dofs());
+  for (int i = 0; i < model.num_dofs(); ++i) u_n[i] = u(rng), u_np1[i] = u(rng);
+  const Assembler<D> whole(model, false);
+  const Assembled one = assemble(whole, u_n, u_np1);
+  // The gathered arrays in call order: f, magnitude, then f and K of the tangent.
+  std::vector<std::vector<double>> done;
+  Assembled last;
+  for (int rank = 0; rank < ranks; ++rank) {
+    std::size_t call = 0;
+    std::vector<std::vector<double>> mine;
+    auto gather = [&](double* data, const std::vector<int>& counts) {
+      long start = 0;
+      for (int r = 0; r < ranks; ++r) {
+        if (r < rank) std::copy(done[call].begin() + start, done[call].begin() + start + counts[r], data + start);
+        start += counts[r];
+      }
+      mine.emplace_back(data, data + start);
+      ++call;
+    };
+    Assembler<D> part(model, false);
+    part.share({rank, ranks, gather});
+    const auto [first, end] = part.rank_nodes();
+    EXPECT_LT(first, end) << "rank " << rank;
+    last = assemble(part, u_n, u_np1);
+    done = std::move(mine);
+  }
+  expect_same_bits(last, one, std::to_string(ranks) + " ranks vs one process");
+}
+
+TEST(ParallelAssembly, RanksThatShareTheWorkGiveTheSameBits2d) { check_rank_share<2>(3); }
+TEST(ParallelAssembly, RanksThatShareTheWorkGiveTheSameBits3d) { check_rank_share<3>(2); }
 
 }  // namespace
 }  // namespace conserve::assembly

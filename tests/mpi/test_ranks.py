@@ -29,6 +29,12 @@ BALL = ROOT / "examples" / "ball" / "ball_on_plane.toml"
 FLIGHT = ROOT / "examples" / "ball" / "ball_flight.toml"
 ENV = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
+# Under the sanitizers (scripts/sanitize.sh): OpenMPI's plug-ins, started by
+# a launcher, leave allocations at exit that LeakSanitizer reports from
+# modules already unloaded; conserve's own leaks are checked by the
+# single-process tests, so here only ASan's and UBSan's errors count.
+if "ASAN_OPTIONS" in ENV:
+    ENV["ASAN_OPTIONS"] += ":detect_leaks=0"
 AGREE = 1e-9  # E, L, J and gaps against the one-process run, relative (scripts/compare_histories.py)
 
 
@@ -127,10 +133,17 @@ class Ranks(unittest.TestCase):
         self.assertGreater(max(history(self.dir / "many")["active_contacts"]), 0)
 
     def test_same_ranks_same_bits(self):
-        args = ("--steps", 120, "--set", "output.vtu_every=0")
-        run(RANKS, BARS, self.dir / "a", *args)
-        run(RANKS, BARS, self.dir / "b", *args)
-        self.assertEqual((self.dir / "a" / "history.csv").read_bytes(), (self.dir / "b" / "history.csv").read_bytes())
+        """Run after run the same bits, the partition included (PT-Scotch's
+        parts of the ball on 2 and 3 ranks: Scotch is seeded and kept on one
+        thread, solver/graph_partition.cpp)."""
+        args = ("--set", "body.ball.translate=[0.0,0.0,0.405]", "--steps", 45, "--set", "output.vtu_every=0")
+        for out in ("a", "b", "c"):
+            run(RANKS, BALL, self.dir / out, *args)
+        first = (self.dir / "a" / "history.csv").read_bytes()
+        for out in ("b", "c"):
+            self.assertEqual(first, (self.dir / out / "history.csv").read_bytes(), out)
+        if RANKS > 1:
+            self.assertIn("PT-Scotch parts", summary(self.dir / "a")["linear_solver"])
 
     def test_stop_signal_checkpoint_and_restart_bit_for_bit(self):
         """A signal to every rank (as a batch system sends it) ends the run
@@ -206,4 +219,4 @@ class Ranks(unittest.TestCase):
 
 if __name__ == "__main__":
     CONSERVE, MPIEXEC, RANKS = sys.argv[1], sys.argv[2], int(sys.argv[3])
-    unittest.main(argv=[sys.argv[0], "-v"])
+    unittest.main(argv=[sys.argv[0], "-v", *sys.argv[4:]])
