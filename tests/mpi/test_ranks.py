@@ -145,37 +145,51 @@ class Ranks(unittest.TestCase):
         if RANKS > 1:
             self.assertIn("PT-Scotch parts", summary(self.dir / "a")["linear_solver"])
 
-    def test_stop_signal_checkpoint_and_restart_bit_for_bit(self):
-        """A signal to every rank (as a batch system sends it) ends the run
-        after the step under way with a checkpoint; continuing from it gives
-        the uninterrupted run's history byte for byte."""
-        args = ("--set", "body.ball.mesh.size=0.12", "--set", "output.vtu_every=0", "--set",
-                "output.checkpoint_every=0")
-        end = ("--set", "time.end=0.3")
-        run(RANKS, FLIGHT, self.dir / "whole", *args, *end)
+    def stop_and_restart(self, scenario, args, stop, to_launcher, after=20):
+        """Signal `stop` to the ranks (and to the launcher too, which
+        forwards SIGUSR1, if `to_launcher`) once `after` steps are written: the
+        run ends after the step under way with a checkpoint and exit code 5;
+        continuing from it on the same ranks gives the uninterrupted run's
+        history byte for byte, and on one process the same trajectory."""
+        run(RANKS, scenario, self.dir / "whole", *args)
         out = self.dir / "stopped"
-        p = subprocess.Popen(command(RANKS, "run", FLIGHT, "-o", out, "-q", *args, *end), env=ENV,
+        p = subprocess.Popen(command(RANKS, "run", scenario, "-o", out, "-q", *args), env=ENV,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
         steps = out / "steps.csv"
         deadline = time.time() + 300
-        while time.time() < deadline and (not steps.exists() or len(steps.read_text().splitlines()) < 20):
+        while time.time() < deadline and (not steps.exists() or len(steps.read_text().splitlines()) < after):
             time.sleep(0.05)
-        # Every process of the run: the ranks (and the launcher, which forwards it).
-        os.killpg(p.pid, signal.SIGUSR1)
+        if to_launcher:
+            os.killpg(p.pid, stop)
+        else:  # the ranks alone, as srun or a batch system's time limit sends it
+            children = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True).stdout.split()
+            self.assertEqual(len(children), RANKS)
+            for child in children:
+                os.kill(int(child), stop)
         _, err = p.communicate(timeout=300)
         self.assertEqual(p.returncode, 5, err)
-        self.assertEqual(err.count("conserve: stopped by SIGUSR1"), 1, err)
+        self.assertEqual(err.count(f"conserve: stopped by {signal.Signals(stop).name}"), 1, err)
         checkpoints = sorted((out / "checkpoints").glob("ckpt_*.bin"))
         self.assertEqual(len(checkpoints), 1)
         self.assertTrue(summary(out)["stopped"])
-        # On another rank count (the process alone) it continues too, to
-        # the solvers' tolerance.
+        return history(out)
         alone = self.dir / "alone"
         shutil.copytree(out, alone)
-        run(RANKS, FLIGHT, out, *args, *end, "--restart", checkpoints[0])
+        run(RANKS, scenario, out, *args, "--restart", checkpoints[0])
         self.assertEqual((self.dir / "whole" / "history.csv").read_bytes(), (out / "history.csv").read_bytes())
-        run(0, FLIGHT, alone, *args, *end, "--restart", alone / "checkpoints" / checkpoints[0].name)
+        run(0, scenario, alone, *args, "--restart", alone / "checkpoints" / checkpoints[0].name)
         self.assert_same_trajectory(self.dir / "whole", alone)
+
+    def test_sigusr1_to_the_launcher_checkpoint_and_restart(self):
+        self.stop_and_restart(FLIGHT, ("--set", "body.ball.mesh.size=0.12", "--set", "output.vtu_every=0", "--set",
+                                       "output.checkpoint_every=0", "--set", "time.end=0.3"), signal.SIGUSR1, True)
+
+    def test_sigterm_to_the_ranks_in_contact_checkpoint_and_restart(self):
+        """Stopped while the ball is in contact with the plane (from about step 32)."""
+        self.stop_and_restart(BALL, ("--set", "body.ball.mesh.size=0.12", "--set", "body.ball.translate=[0.0,0.0,0.405]",
+                                     "--set", "output.vtu_every=0", "--set", "output.checkpoint_every=0", "--set",
+                                     "time.end=0.12"), signal.SIGTERM, False, after=45)
+        self.assertGreater(max(history(self.dir / "whole")["active_contacts"][30:50]), 0)
 
     def test_bad_input_one_line_exit_1(self):
         bad = self.dir / "bad.toml"
