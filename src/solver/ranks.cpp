@@ -52,26 +52,22 @@ int size() {
   return n;
 }
 
-int max(int value) {
+namespace {
+
+/// `value` combined over the ranks by `op` (collective).
+template <class T>
+T reduce(T value, MPI_Datatype type, MPI_Op op) {
   if (size() == 1) return value;
-  int out = value;
-  MPI_Allreduce(&value, &out, 1, MPI_INT, MPI_MAX, world());
+  T out = value;
+  MPI_Allreduce(&value, &out, 1, type, op, world());
   return out;
 }
 
-double max(double value) {
-  if (size() == 1) return value;
-  double out = value;
-  MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, world());
-  return out;
-}
+}  // namespace
 
-double sum(double value) {
-  if (size() == 1) return value;
-  double out = value;
-  MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_SUM, world());
-  return out;
-}
+int max(int value) { return reduce(value, MPI_INT, MPI_MAX); }
+double max(double value) { return reduce(value, MPI_DOUBLE, MPI_MAX); }
+double sum(double value) { return reduce(value, MPI_DOUBLE, MPI_SUM); }
 
 void broadcast(Eigen::VectorXd& x, int from) {
   if (size() == 1) return;
