@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "assembly/threads.hpp"
@@ -33,7 +34,7 @@ std::vector<double> per_cell(int num_cells, const Value& value) {
 
 template <int D>
 Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
-    : model_(model), pattern_(model.num_nodes(), model.cells), rank_nodes_{0, model.num_nodes()} {
+    : model_(model), pattern_(model.num_nodes(), model.cells, {}, model.first_owned(), model.end_owned()) {
   std::vector<Eigen::Triplet<double>> node_entries;
   node_entries.reserve(static_cast<std::size_t>(model.num_cells()) * (D + 1) * (D + 1));
   for (int c = 0; c < model.num_cells(); ++c) {
@@ -92,10 +93,11 @@ fem::NodeMatrix<D> Assembler<D>::cell_positions(int cell, const Eigen::VectorXd&
 
 template <int D>
 typename Assembler<D>::StepStart Assembler<D>::step_start(const Eigen::VectorXd& u_n) const {
-  StepStart start(static_cast<std::size_t>(model_.num_cells()));
+  StepStart start(static_cast<std::size_t>(pattern_.kept_cells()));
 #pragma omp parallel for schedule(static) if (model_.num_cells() >= kMinParallelCells)
   for (int c = 0; c < model_.num_cells(); ++c)
-    start[static_cast<std::size_t>(c)] = fem::cell_start<D>(model_.geometry[c], cell_positions(c, u_n));
+    if (const int l = pattern_.local_cell(c); l >= 0)
+      start[static_cast<std::size_t>(l)] = fem::cell_start<D>(model_.geometry[c], cell_positions(c, u_n));
   return start;
 }
 
@@ -120,16 +122,22 @@ const NodePartition& Assembler<D>::partition() const {
 template <int D>
 void Assembler<D>::share(RankShare share) {
   share_ = std::move(share);
-  rank_nodes_ = share_.ranks > 1 ? partition_nodes(model_.num_nodes(), model_.cells, share_.ranks).first_node
-                                 : std::vector<int>{0, model_.num_nodes()};
+  if (share_.ranks != model_.num_ranks() || share_.rank != model_.rank)
+    throw std::invalid_argument("Assembler::share: the ranks differ from the model's");
   rank_partition_ = {};
 }
 
 template <int D>
+std::vector<double> Assembler<D>::all(double value) const {
+  if (model_.num_ranks() == 1) return {value};
+  return share_.all(value);
+}
+
+template <int D>
 const NodePartition& Assembler<D>::rank_partition() const {
-  if (share_.ranks <= 1) return partition();
+  if (model_.num_ranks() <= 1) return partition();
   const auto [first, end] = rank_nodes();
-  const int parts = model_.num_cells() >= kMinParallelCells * share_.ranks ? std::max(threads(), 1) : 1;
+  const int parts = model_.num_cells() >= kMinParallelCells * model_.num_ranks() ? std::max(threads(), 1) : 1;
   if (rank_partition_.num_parts() != parts) {
     rank_partition_ = partition_nodes(model_.num_nodes(), model_.cells, parts, first, end);
     if (static_cast<int>(scratch_.size()) < parts) scratch_.resize(static_cast<std::size_t>(parts));
@@ -138,17 +146,13 @@ const NodePartition& Assembler<D>::rank_partition() const {
 }
 
 template <int D>
-void Assembler<D>::gather(Eigen::VectorXd* f, Eigen::VectorXd* magnitude, SparseMatrix* K) const {
-  if (share_.ranks <= 1) return;
-  std::vector<int> counts(static_cast<std::size_t>(share_.ranks));
-  for (int r = 0; r < share_.ranks; ++r) counts[r] = (rank_nodes_[r + 1] - rank_nodes_[r]) * D;
+void Assembler<D>::gather(Eigen::VectorXd* f, Eigen::VectorXd* magnitude) const {
+  const int ranks = model_.num_ranks();
+  if (ranks <= 1) return;
+  std::vector<int> counts(static_cast<std::size_t>(ranks));
+  for (int r = 0; r < ranks; ++r) counts[r] = (model_.rank_nodes[r + 1] - model_.rank_nodes[r]) * D;
   if (f) share_.gather(f->data(), counts);
   if (magnitude) share_.gather(magnitude->data(), counts);
-  if (K) {  // the ranks' nodes' block columns
-    const int* outer = K->outerIndexPtr();
-    for (int r = 0; r < share_.ranks; ++r) counts[r] = outer[rank_nodes_[r + 1] * D] - outer[rank_nodes_[r] * D];
-    share_.gather(K->valuePtr(), counts);
-  }
 }
 
 template <int D>
@@ -164,7 +168,8 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
       const fem::NodeMatrix<D> fe = fem::internal_force<D>(
-          model_.geometry[c], law(c), start[static_cast<std::size_t>(c)], cell_positions(c, u_np1), scheme);
+          model_.geometry[c], law(c), start[static_cast<std::size_t>(pattern_.local_cell(c))], cell_positions(c, u_np1),
+          scheme);
       for (int a = 0; a <= D; ++a) {
         if (!(parts.visit_owned[v] >> a & 1u)) continue;
         const int at = (model_.cells(a, c) - first) * D;
@@ -175,7 +180,7 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
     f.segment(first * D, size) += local;
     if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
   });
-  gather(&f, magnitude, nullptr);
+  gather(&f, magnitude);
 }
 
 template <int D>
@@ -222,7 +227,7 @@ void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
       const std::uint8_t owned = parts.visit_owned[v];
-      fem::internal_force_tangent<D>(model_.geometry[c], law(c), start[static_cast<std::size_t>(c)],
+      fem::internal_force_tangent<D>(model_.geometry[c], law(c), start[static_cast<std::size_t>(pattern_.local_cell(c))],
                                      cell_positions(c, u_np1), scheme, fe, Ke);
       if (f)
         for (int a = 0; a <= D; ++a) {
@@ -231,12 +236,12 @@ void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_
           local.segment<D>(at) += fe.col(a);
           if (magnitude) local_magnitude.segment<D>(at) += fe.col(a).cwiseAbs();
         }
-      pattern_.add_cell_matrix(c, Ke, values, owned);  // the owned nodes' block columns
+      pattern_.add_cell_matrix(c, Ke, values, owned);  // the owned nodes' block rows
     }
     if (f) f->segment(first * D, size) += local;
     if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
   });
-  gather(f, magnitude, &K);
+  gather(f, magnitude);
 }
 
 template <int D>
@@ -251,10 +256,11 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
       std::memcmp(measured_u_.data(), u.data(), sizeof(double) * static_cast<std::size_t>(u.size())) == 0)
     return measures_;
   const int n = model_.num_cells();
-  auto cells = std::make_shared<StepStart>(static_cast<std::size_t>(n));
-  std::vector<double> W(static_cast<std::size_t>(n)), det(static_cast<std::size_t>(n));
+  auto cells = std::make_shared<StepStart>(static_cast<std::size_t>(pattern_.kept_cells()));
+  std::vector<double> W(static_cast<std::size_t>(n), 0.0), det(static_cast<std::size_t>(n));
   Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.num_dofs());
-  const NodePartition& parts = partition();
+  const NodePartition& parts = rank_partition();
+  const auto [rank_first, rank_end] = rank_nodes();
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
     Eigen::VectorXd& local = scratch_[p].force;
@@ -268,19 +274,35 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
       const fem::NodeMatrix<D> fe = fem::internal_force<D>(g, law(c), start, x, fem::StressScheme::conserving);
       for (int a = 0; a <= D; ++a)
         if (owned >> a & 1u) local.segment<D>((model_.cells(a, c) - first) * D) += fe.col(a);
-      if (!(owned & 1u)) continue;  // the cell's own figures: by the part that owns its first node
-      (*cells)[static_cast<std::size_t>(c)] = start;
+      // The cell's start: by the part that owns its lowest corner on this
+      // rank; its own figures: by the part (on the rank) that owns its first.
+      int lowest = 0;
+      while (model_.cells(lowest, c) < rank_first || model_.cells(lowest, c) >= rank_end) ++lowest;
+      if (!(owned >> lowest & 1u)) continue;
+      (*cells)[static_cast<std::size_t>(pattern_.local_cell(c))] = start;
+      if (lowest != 0) continue;
       W[static_cast<std::size_t>(c)] = fem::strain_energy<D>(g, law(c), x);
       det[static_cast<std::size_t>(c)] = start.F.determinant();
     }
     f.segment(first * D, size) += local;
   });
+  gather(&f, nullptr);
   StateMeasures m;
   m.cells = std::move(cells);
-  for (const double w : W) m.strain_energy += w;  // in cell order, as strain_energy()
-  m.orientation = {std::numeric_limits<double>::infinity(), -1};
+  double energy = 0.0;
+  for (const double w : W) energy += w;  // in cell order, as strain_energy()
+  for (const double e : all(energy)) m.strain_energy += e;  // rank by rank
+  Orientation o{std::numeric_limits<double>::infinity(), -1};
   for (int c = 0; c < n; ++c)
-    if (det[static_cast<std::size_t>(c)] < m.orientation.det_F) m.orientation = {det[static_cast<std::size_t>(c)], c};
+    if (model_.owns(model_.cells(0, c)) && det[static_cast<std::size_t>(c)] < o.det_F)
+      o = {det[static_cast<std::size_t>(c)], c};
+  const std::vector<double> dets = all(o.det_F), at = all(static_cast<double>(o.cell));
+  m.orientation = {std::numeric_limits<double>::infinity(), -1};
+  for (std::size_t r = 0; r < dets.size(); ++r) {  // the lowest cell on ties
+    const int cell = static_cast<int>(at[r]);
+    if (dets[r] < m.orientation.det_F || (dets[r] == m.orientation.det_F && cell >= 0 && cell < m.orientation.cell))
+      m.orientation = {dets[r], cell};
+  }
   m.force_norm = f.norm();
   measures_ = std::move(m);
   measured_u_ = u;

@@ -26,21 +26,26 @@ struct Orientation {
 };
 
 /// How the ranks of a run share the assembly's work (solver/ranks.hpp):
-/// rank `rank` of `ranks` computes the force and tangent entries of its own
-/// range of nodes (the ranges of partition_nodes(…, ranks)), and `gather`
-/// gives every rank the others': gather(data, counts) replaces each rank's
-/// segment of `data` (counts[r] values, in rank order) by that rank's. The
+/// rank `rank` of `ranks` computes the force entries of its own nodes
+/// (Model::rank_nodes) and the tangent's rows of them, which are all it
+/// holds of the tangent (BlockPattern's kept rows). `gather` gives every
+/// rank the others' force entries: gather(data, counts) replaces each
+/// rank's segment of `data` (counts[r] values, in rank order) by that
+/// rank's; `all` gives every rank's value of a figure in rank order. The
 /// entries are the bits one process computes (each sums its cells in
-/// ascending order, assembly/partition.hpp).
+/// ascending order, assembly/partition.hpp); sums and minima over the
+/// cells are summed rank by rank.
 struct RankShare {
   int rank = 0, ranks = 1;
   std::function<void(double* data, const std::vector<int>& counts)> gather;
+  std::function<std::vector<double>(double value)> all;
 };
 
 template <int D>
 class Assembler {
  public:
-  /// Builds the pattern and the constant mass matrix (consistent or lumped).
+  /// Builds the pattern (the rows of this rank's nodes, Model::rank_nodes)
+  /// and the constant mass matrix (consistent or lumped).
   Assembler(const model::Model<D>& model, bool lumped_mass);
 
   [[nodiscard]] const model::Model<D>& model() const { return model_; }
@@ -49,13 +54,11 @@ class Assembler {
   /// threads (one part below kMinParallelCells cells); remade when that
   /// number changes.
   [[nodiscard]] const NodePartition& partition() const;
-  /// Shares the forces' and tangents' work among ranks from now on (the
-  /// state measures and energies stay whole on each rank).
+  /// The ranks' exchanges for a model of several ranks (Model::rank_nodes):
+  /// needed before the first force or measure on more than one rank.
   void share(RankShare share);
   /// This rank's nodes [first, end) (all nodes on one rank).
-  [[nodiscard]] std::pair<int, int> rank_nodes() const {
-    return {rank_nodes_[share_.rank], rank_nodes_[share_.rank + 1]};
-  }
+  [[nodiscard]] std::pair<int, int> rank_nodes() const { return {model_.first_owned(), model_.end_owned()}; }
   /// The nodes' scalar mass matrix M_AB [kg], nodes × nodes: the dofs'
   /// mass matrix is M_AB ⊗ I_D, which is not stored.
   [[nodiscard]] const SparseMatrix& node_mass() const { return node_mass_; }
@@ -69,7 +72,9 @@ class Assembler {
   [[nodiscard]] const Eigen::VectorXd& gravity_force() const { return gravity_force_; }
 
   /// Each cell's F_n at the start u_n of a step: what every
-  /// residual and tangent of the step shares (cell order).
+  /// residual and tangent of the step shares, for the cells with a corner
+  /// among this rank's nodes (all on one rank), in cell order: cell c's is
+  /// at pattern().local_cell(c).
   using StepStart = std::vector<fem::CellStart<D>>;
   [[nodiscard]] StepStart step_start(const Eigen::VectorXd& u_n) const;
 
@@ -114,7 +119,9 @@ class Assembler {
   /// What a run needs of a state u besides its steps' residuals, from one
   /// pass over the cells: the same bits as step_start(u), strain_energy(u),
   /// min_det_F(u) and |internal_force(step_start(u), u, conserving)|, the
-  /// force of a step that does not move. The last state's are kept: asked
+  /// force of a step that does not move (on several ranks collective: each
+  /// rank measures its cells, step_start's of the cells it visits, and the
+  /// energy is summed rank by rank). The last state's are kept: asked
   /// again for the same u (bit for bit), they are not computed again (a
   /// step's end is checked, reported and starts the next step).
   struct StateMeasures {
@@ -126,10 +133,10 @@ class Assembler {
   [[nodiscard]] const StateMeasures& measures(const Eigen::VectorXd& u) const;
 
   /// The smallest det F over the cells at displacements u, and its cell
-  /// (the lowest such cell on ties).
+  /// (the lowest such cell on ties): every cell, on any rank.
   [[nodiscard]] Orientation min_det_F(const Eigen::VectorXd& u) const;
 
-  /// Stored energy W(u) = Σ_cells V ρ0Ψ [J].
+  /// Stored energy W(u) = Σ_cells V ρ0Ψ [J]: every cell, on any rank.
   [[nodiscard]] double strain_energy(const Eigen::VectorXd& u) const;
 
   /// Current positions of a cell's nodes relative to its first node,
@@ -156,11 +163,12 @@ class Assembler {
   };
   /// The parts of this rank's nodes (partition() on one rank).
   [[nodiscard]] const NodePartition& rank_partition() const;
-  /// Every rank's segments of f, magnitude (may be null) and K's values
-  /// (may be null) from that rank (nothing on one rank).
-  void gather(Eigen::VectorXd* f, Eigen::VectorXd* magnitude, SparseMatrix* K) const;
+  /// Every rank's segments of f and magnitude (may be null) from that rank
+  /// (nothing on one rank).
+  void gather(Eigen::VectorXd* f, Eigen::VectorXd* magnitude) const;
+  /// The ranks' values of a figure, in rank order (this rank's alone on one).
+  [[nodiscard]] std::vector<double> all(double value) const;
   RankShare share_;
-  std::vector<int> rank_nodes_;  ///< rank r has nodes [rank_nodes_[r], rank_nodes_[r+1])
   mutable NodePartition rank_partition_;
   mutable NodePartition partition_;
   mutable StateMeasures measures_;  ///< measures() of measured_u_

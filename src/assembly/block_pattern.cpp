@@ -6,36 +6,58 @@ namespace conserve::assembly {
 
 template <int D>
 BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
-                              const std::vector<std::pair<int, int>>& extra)
-    : cells_(cells) {
-  // Each node's neighbours with repeats (its cells' nodes, the extra pairs
-  // and itself: every node keeps its diagonal block, even if isolated),
-  // bucketed by counting, then sorted and made unique in place.
+                              const std::vector<std::pair<int, int>>& extra, int first, int end)
+    : first_(first), end_(end < 0 ? num_nodes : end) {
+  const auto kept = [&](int node) { return node >= first_ && node < end_; };
+  // The kept cells: those with a corner among the kept rows.
+  local_cell_.assign(static_cast<std::size_t>(cells.cols()), -1);
+  int locals = 0;
+  for (Eigen::Index c = 0; c < cells.cols(); ++c)
+    for (int a = 0; a <= D; ++a)
+      if (kept(cells(a, c))) {
+        local_cell_[static_cast<std::size_t>(c)] = locals++;
+        break;
+      }
+  cells_.resize(D + 1, locals);
+  for (Eigen::Index c = 0; c < cells.cols(); ++c)
+    if (const int l = local_cell_[static_cast<std::size_t>(c)]; l >= 0) cells_.col(l) = cells.col(c);
+  // Each column node's kept neighbours with repeats (its cells' kept nodes,
+  // the extra pairs' and itself if kept: every kept node keeps its
+  // diagonal block, even if isolated), bucketed by counting, then sorted
+  // and made unique in place.
   const auto nodes = static_cast<std::size_t>(num_nodes);
   std::vector<std::size_t> start(nodes + 1, 0);
-  for (Eigen::Index c = 0; c < cells.cols(); ++c)
-    for (int b = 0; b <= D; ++b) start[static_cast<std::size_t>(cells(b, c)) + 1] += D + 1;
-  for (const auto& [p, q] : extra) ++start[static_cast<std::size_t>(p) + 1], ++start[static_cast<std::size_t>(q) + 1];
-  for (std::size_t n = 0; n < nodes; ++n) start[n + 1] += start[n] + 1;
+  for (Eigen::Index c = 0; c < cells_.cols(); ++c) {
+    int in = 0;
+    for (int a = 0; a <= D; ++a) in += kept(cells_(a, c)) ? 1 : 0;
+    for (int b = 0; b <= D; ++b) start[static_cast<std::size_t>(cells_(b, c)) + 1] += static_cast<std::size_t>(in);
+  }
+  for (const auto& [p, q] : extra) {
+    if (kept(q)) ++start[static_cast<std::size_t>(p) + 1];
+    if (kept(p)) ++start[static_cast<std::size_t>(q) + 1];
+  }
+  for (std::size_t n = 0; n < nodes; ++n) start[n + 1] += start[n] + (kept(static_cast<int>(n)) ? 1 : 0);
   std::vector<int> all(start[nodes]);
   std::vector<std::size_t> next(start.begin(), start.end() - 1);
-  for (std::size_t n = 0; n < nodes; ++n) all[next[n]++] = static_cast<int>(n);
-  for (Eigen::Index c = 0; c < cells.cols(); ++c)
+  for (std::size_t n = 0; n < nodes; ++n)
+    if (kept(static_cast<int>(n))) all[next[n]++] = static_cast<int>(n);
+  for (Eigen::Index c = 0; c < cells_.cols(); ++c)
     for (int b = 0; b <= D; ++b) {
-      const auto B = static_cast<std::size_t>(cells(b, c));
-      for (int a = 0; a <= D; ++a) all[next[B]++] = cells(a, c);
+      const auto B = static_cast<std::size_t>(cells_(b, c));
+      for (int a = 0; a <= D; ++a)
+        if (kept(cells_(a, c))) all[next[B]++] = cells_(a, c);
     }
   for (const auto& [p, q] : extra) {
-    all[next[static_cast<std::size_t>(p)]++] = q;
-    all[next[static_cast<std::size_t>(q)]++] = p;
+    if (kept(q)) all[next[static_cast<std::size_t>(p)]++] = q;
+    if (kept(p)) all[next[static_cast<std::size_t>(q)]++] = p;
   }
   std::vector<int> count(nodes);
 #pragma omp parallel for schedule(dynamic, 4096) if (nodes >= 65536)
   for (std::ptrdiff_t n = 0; n < static_cast<std::ptrdiff_t>(nodes); ++n) {
-    const auto first = all.begin() + static_cast<std::ptrdiff_t>(start[n]);
+    const auto first_at = all.begin() + static_cast<std::ptrdiff_t>(start[n]);
     const auto last = all.begin() + static_cast<std::ptrdiff_t>(start[n + 1]);
-    std::sort(first, last);
-    count[n] = static_cast<int>(std::unique(first, last) - first);
+    std::sort(first_at, last);
+    count[n] = static_cast<int>(std::unique(first_at, last) - first_at);
   }
   offsets_.assign(nodes + 1, 0);
   for (std::size_t n = 0; n < nodes; ++n) offsets_[n + 1] = offsets_[n] + count[n];
@@ -46,15 +68,15 @@ BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
   outer_.assign(nodes * D + 1, 0);
   for (std::size_t n = 0; n < nodes; ++n)
     for (int k = 0; k < D; ++k) outer_[n * D + k + 1] = outer_[n * D + k] + count[n] * D;
-  rank_.resize(static_cast<std::size_t>(cells.cols()) * (D + 1) * (D + 1));
+  rank_.resize(static_cast<std::size_t>(cells_.cols()) * (D + 1) * (D + 1));
 #pragma omp parallel for schedule(static) if (cells.cols() >= 65536)
-  for (Eigen::Index c = 0; c < cells.cols(); ++c)
+  for (Eigen::Index c = 0; c < cells_.cols(); ++c)
     for (int b = 0; b <= D; ++b) {
-      const int B = cells(b, c);
-      const auto first = neighbours_.begin() + offsets_[B], last = neighbours_.begin() + offsets_[B + 1];
+      const int B = cells_(b, c);
+      const auto first_at = neighbours_.begin() + offsets_[B], last = neighbours_.begin() + offsets_[B + 1];
       for (int a = 0; a <= D; ++a)
         rank_[static_cast<std::size_t>((c * (D + 1) + b) * (D + 1) + a)] =
-            static_cast<int>(std::lower_bound(first, last, cells(a, c)) - first);
+            kept(cells_(a, c)) ? static_cast<int>(std::lower_bound(first_at, last, cells_(a, c)) - first_at) : -1;
     }
 }
 
@@ -81,6 +103,7 @@ void BlockPattern<D>::add_identity_blocks(double c, const SparseMatrix& N, doubl
     // N's column B and B's neighbours are both in increasing node order.
     int rank = 0;
     for (SparseMatrix::InnerIterator it(N, B); it; ++it) {
+      if (it.row() < first_ || it.row() >= end_) continue;  // a row this pattern does not keep
       while (neighbours_[static_cast<std::size_t>(offsets_[B] + rank)] != it.row()) ++rank;
       const double value = c * it.value();
       for (int k = 0; k < D; ++k) values[outer_[B * D + k] + rank * D + k] += value;

@@ -57,10 +57,27 @@ struct Model {
   std::vector<SurfaceLoad> loads;
   Prescribed prescribed;
   std::vector<FreeBody> free_bodies;
+  /// The ranks' shares of a distributed run: rank r owns the nodes
+  /// [rank_nodes[r], rank_nodes[r+1]), their rows of every matrix (the rows
+  /// beyond the nodes' are the last rank's), and adds each term of the
+  /// system whose node it owns; this process is rank `rank`. Empty: one
+  /// rank, all nodes.
+  std::vector<int> rank_nodes;
+  int rank = 0;
 
   [[nodiscard]] int num_nodes() const { return static_cast<int>(X.cols()); }
   [[nodiscard]] int num_cells() const { return static_cast<int>(cells.cols()); }
   [[nodiscard]] int num_dofs() const { return D * num_nodes(); }
+  [[nodiscard]] int num_ranks() const { return rank_nodes.empty() ? 1 : static_cast<int>(rank_nodes.size()) - 1; }
+  /// This rank's nodes [first, end).
+  [[nodiscard]] int first_owned() const { return rank_nodes.empty() ? 0 : rank_nodes[rank]; }
+  [[nodiscard]] int end_owned() const { return rank_nodes.empty() ? num_nodes() : rank_nodes[rank + 1]; }
+  /// Whether this rank owns `node`'s rows (and adds the terms of the
+  /// constraints, couplings and loads whose slave or first node it is).
+  [[nodiscard]] bool owns(int node) const { return node >= first_owned() && node < end_owned(); }
+  /// Whether this rank owns the rows beyond the nodes' (multipliers, free
+  /// bodies' unknowns) and adds the terms that belong to no node.
+  [[nodiscard]] bool owns_extra_rows() const { return rank == num_ranks() - 1; }
   /// The dofs the nodal system holds: the prescribed ones, then the free
   /// rigid bodies' (whose motion has its own unknowns).
   [[nodiscard]] std::vector<int> held_dofs() const {

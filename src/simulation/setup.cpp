@@ -18,7 +18,9 @@
 #include "mesh/topology.hpp"
 #include "material/law.hpp"
 #include "model/initial_state.hpp"
+#include "assembly/partition.hpp"
 #include "solver/ordering.hpp"
+#include "solver/ranks.hpp"
 #include "time/integrator.hpp"
 
 namespace conserve::simulation {
@@ -422,6 +424,12 @@ Problem<D> setup(const io::Scenario& scenario) {
   }
   model::apply_prescribed<D>(p.model.prescribed, p.model.X, 0.0, p.initial.u, &p.initial.v);
   check_overlaps<D>(scenario, p.model, p.initial.u);
+  // On several ranks each owns a range of the nodes holding about equal
+  // shares of the cells' corners (the assembly's work).
+  if (const int ranks = solver::ranks::size(); ranks > 1) {
+    p.model.rank_nodes = assembly::partition_nodes(p.model.num_nodes(), p.model.cells, ranks).first_node;
+    p.model.rank = solver::ranks::rank();
+  }
   return p;
 }
 

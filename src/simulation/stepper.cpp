@@ -52,7 +52,8 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
                                                                                    : time::Predictor::velocity);
   // On several ranks each assembles the forces and tangents of its nodes.
   if (solver::ranks::size() > 1)
-    assembler_->share({solver::ranks::rank(), solver::ranks::size(), &solver::ranks::gather_segments});
+    assembler_->share(
+        {solver::ranks::rank(), solver::ranks::size(), &solver::ranks::gather_segments, &solver::ranks::all});
 }
 
 template <int D>

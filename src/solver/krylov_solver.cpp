@@ -11,7 +11,7 @@
 #include "core/bytes.hpp"
 #include "core/error.hpp"
 #include "solver/direct_solver.hpp"
-#include "solver/graph_partition.hpp"
+#include "solver/mumps_solver.hpp"
 #include "solver/petsc_session.hpp"
 #include "solver/petsc_system.hpp"
 #include "solver/ranks.hpp"
@@ -105,11 +105,9 @@ struct KrylovSolver::Petsc {
   std::vector<int> to;                               ///< CSC position → position in the PETSc values
   int block_size = 1;                                ///< D for BAIJ, 1 for AIJ
   Eigen::MatrixXd X;                                 ///< reference coordinates (GAMG's rigid-body modes)
-  std::vector<int> graph_offsets, graph_neighbours;  ///< the nodes' graph (set_node_graph)
-  GraphPartition partition;                          ///< on several ranks, the nodes' ranks, made once from the graph
-  bool partitioned = false;
+  std::vector<int> rank_nodes;           ///< on several ranks, the ranks' nodes (set_layout)
   const SparseMatrix* last = nullptr;    ///< the matrix of set_operator (valid until the next)
-  std::unique_ptr<DirectSolver> direct;  ///< the fallback, made on first use
+  std::unique_ptr<LinearSolver> direct;  ///< the fallback (UMFPACK, MUMPS on several ranks), made on first use
   bool direct_ready = false;             ///< the fallback holds the present matrix
 
   // The LU first (KrylovSolver::set_operator).
@@ -134,7 +132,15 @@ struct KrylovSolver::Petsc {
 
   void factorize_lu(Timings* timings) {
     if (!direct) {
-      direct = std::make_unique<DirectSolver>();
+      if (distributed) {
+        // Each rank holds its part of the system: the LU is distributed too.
+        auto mumps = std::make_unique<MumpsSolver>();
+        mumps->set_coordinates(X);
+        mumps->set_layout(rank_nodes);
+        direct = std::move(mumps);
+      } else {
+        direct = std::make_unique<DirectSolver>();
+      }
       direct->set_timings(timings);
     }
     direct->set_operator(*last);
@@ -255,12 +261,7 @@ struct KrylovSolver::Petsc {
     const bool nodal = dim > 0 && n == static_cast<int>(X.size());
     const bool blocked = kind == Preconditioner::ilu && dim > 1 && nodal;
     if (distributed) {
-      const int nodal_rows = nodal ? n : std::min(n, static_cast<int>(X.size()));
-      if (!partitioned && !graph_offsets.empty()) {
-        partition = partition_graph(graph_offsets, graph_neighbours, ranks::size());
-        partitioned = true;
-      }
-      system.make(M, std::max(dim, 1), nodal_rows, blocked, &partition.part);
+      system.make(M, std::max(dim, 1), blocked, rank_nodes);
       A = system.matrix(), b = system.rhs(), x = system.solution();
       block_size = blocked ? dim : 1;
       if (kind == Preconditioner::gamg && dim > 0 && X.size() == n) set_rigid_body_modes(dim);
@@ -414,9 +415,7 @@ std::string KrylovSolver::name() const {
                            : petsc_->distributed                ? "GMRES + block Jacobi ILU(0)"
                                                                 : "GMRES + ILU(0)";
   std::string name = petsc_->split ? base + ", Schur field split with multipliers" : base;
-  if (petsc_->partitioned)
-    name += fmt::format(" ({} ranks, {} parts, {} edges cut)", ranks::size(),
-                        petsc_->partition.scotch ? "PT-Scotch" : "contiguous", petsc_->partition.cut);
+  if (petsc_->distributed) name += fmt::format(" ({} ranks)", ranks::size());
   return name;
 }
 
@@ -426,12 +425,7 @@ std::vector<std::int64_t> KrylovSolver::row_ranges() const {
 
 void KrylovSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->X = X; }
 
-void KrylovSolver::set_node_graph(const std::vector<int>& offsets, const std::vector<int>& neighbours) {
-  if (!petsc_->distributed) return;
-  petsc_->graph_offsets = offsets;
-  petsc_->graph_neighbours = neighbours;
-  petsc_->partitioned = false;
-}
+void KrylovSolver::set_layout(const std::vector<int>& rank_nodes) { petsc_->rank_nodes = rank_nodes; }
 
 void KrylovSolver::reset() {
   Petsc& p = *petsc_;
@@ -462,7 +456,9 @@ void KrylovSolver::set_operator(const SparseMatrix& M) {
   }
   ScopedTimer timer(clock(&Timings::linear_setup));
   count(&Timings::linear_setups);
-  if (!p.A || !p.same_pattern(M)) {
+  bool fresh = !p.A || !p.same_pattern(M);
+  if (p.distributed) fresh = ranks::max(fresh ? 1 : 0) != 0;  // a new pattern on any rank is new on all
+  if (fresh) {
     // A new pattern needs a new ordering and symbolic factorization (or a
     // new GAMG hierarchy): the PC keeps them while the matrix is the same.
     p.make_ksp();
@@ -561,11 +557,7 @@ LinearSolve KrylovSolver::solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& out
 LinearSolve KrylovSolver::fallback(const Eigen::VectorXd& rhs, Eigen::VectorXd& out) {
   Petsc& p = *petsc_;
   if (!p.direct_ready) p.factorize_lu(timings_);
-  const LinearSolve solve = p.direct->solve(rhs, out, 0.0);
-  // Every rank factorized the same matrix; rank 0's bits go to all, so
-  // that no rank's state can part from the others'.
-  if (p.distributed) ranks::broadcast(out);
-  return solve;
+  return p.direct->solve(rhs, out, 0.0);  // on several ranks MUMPS gives every rank the same x
 }
 
 }  // namespace conserve::solver

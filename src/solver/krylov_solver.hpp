@@ -45,8 +45,7 @@ class KrylovSolver final : public LinearSolver {
   /// After the present matrix is set again: the counters, and its LU if it had one.
   void load_state(const std::string& bytes) override;
   void set_coordinates(const Eigen::MatrixXd& X) override;
-  /// On several ranks the nodes are partitioned from it (once, at the first matrix).
-  void set_node_graph(const std::vector<int>& offsets, const std::vector<int>& neighbours) override;
+  void set_layout(const std::vector<int>& rank_nodes) override;
   [[nodiscard]] std::string name() const override;
   [[nodiscard]] std::vector<std::int64_t> row_ranges() const override;
 

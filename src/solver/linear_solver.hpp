@@ -78,10 +78,11 @@ class LinearSolver {
   /// Reference coordinates of the nodes (D × nodes) for preconditioners
   /// that use the rigid-body modes; ignored by the others.
   virtual void set_coordinates(const Eigen::MatrixXd& /*X*/) {}
-  /// The nodes' graph (node B's neighbours, itself included, are
-  /// neighbours[offsets[B] .. offsets[B+1])), from which a solver on
-  /// several ranks partitions the nodes once; ignored by the others.
-  virtual void set_node_graph(const std::vector<int>& /*offsets*/, const std::vector<int>& /*neighbours*/) {}
+  /// On several ranks, the ranks' nodes (model::Model::rank_nodes): rank r
+  /// owns the rows of nodes [rank_nodes[r], rank_nodes[r+1]), the rows
+  /// beyond the nodes' are the last rank's, and each rank's matrix holds
+  /// its part of the system (petsc_system.hpp); ignored on one rank.
+  virtual void set_layout(const std::vector<int>& /*rank_nodes*/) {}
   /// On several ranks, the present matrix's rows by rank: each rank's
   /// first row, then the number of rows (empty on one rank).
   [[nodiscard]] virtual std::vector<std::int64_t> row_ranges() const { return {}; }

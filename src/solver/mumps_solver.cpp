@@ -1,5 +1,7 @@
 #include "solver/mumps_solver.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 #include <petscksp.h>
 
@@ -15,6 +17,8 @@ using petsc::check;
 struct MumpsSolver::Petsc {
   petsc::DistributedSystem system;
   KSP ksp = nullptr;
+  int dim = 1;                  ///< rows per node
+  std::vector<int> rank_nodes;  ///< the ranks' nodes (set_layout)
   ~Petsc() {
     if (ksp) KSPDestroy(&ksp);
   }
@@ -37,13 +41,17 @@ std::string MumpsSolver::name() const { return fmt::format("MUMPS LU on {} ranks
 
 std::vector<std::int64_t> MumpsSolver::row_ranges() const { return petsc_->system.row_ranges(); }
 
+void MumpsSolver::set_coordinates(const Eigen::MatrixXd& X) { petsc_->dim = std::max(static_cast<int>(X.rows()), 1); }
+
+void MumpsSolver::set_layout(const std::vector<int>& rank_nodes) { petsc_->rank_nodes = rank_nodes; }
+
 void MumpsSolver::set_operator(const SparseMatrix& M) {
   Petsc& p = *petsc_;
   ScopedTimer timer(clock(&Timings::linear_setup));
   count(&Timings::linear_setups);
-  if (!p.system.same_pattern(M)) {
+  if (ranks::max(p.ksp && p.system.same_pattern(M) ? 0 : 1) != 0) {  // collective: any rank's new pattern
     if (p.ksp) KSPDestroy(&p.ksp);
-    p.system.make(M, 1, 0, false);
+    p.system.make(M, p.dim, false, p.rank_nodes);
     check(KSPCreate(PETSC_COMM_WORLD, &p.ksp), "KSPCreate");
     check(KSPSetType(p.ksp, KSPPREONLY), "KSPSetType");
     PC pc = nullptr;

@@ -22,6 +22,9 @@ class MumpsSolver final : public LinearSolver {
   [[nodiscard]] bool exact() const override { return true; }
   [[nodiscard]] std::string name() const override;
   [[nodiscard]] std::vector<std::int64_t> row_ranges() const override;
+  /// The nodes' dimension (rows per node) from the coordinates' rows.
+  void set_coordinates(const Eigen::MatrixXd& X) override;
+  void set_layout(const std::vector<int>& rank_nodes) override;
 
  private:
   struct Petsc;

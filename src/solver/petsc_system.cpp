@@ -1,6 +1,8 @@
 #include "solver/petsc_system.hpp"
 
 #include <algorithm>
+#include <iterator>
+#include <utility>
 
 #include "solver/petsc_session.hpp"
 #include "solver/ranks.hpp"
@@ -24,109 +26,146 @@ bool DistributedSystem::same_pattern(const SparseMatrix& M) const {
          std::equal(inner_.begin(), inner_.end(), M.innerIndexPtr());
 }
 
-void DistributedSystem::make(const SparseMatrix& M, int block, int nodal_rows, bool blocked,
-                             const std::vector<int>* node_part) {
+namespace {
+
+/// A block of this rank's part in another rank's rows: (block row, block column).
+using BlockPair = std::pair<PetscInt, PetscInt>;
+
+/// Sends each rank its counts[r] items of `send` (in rank order) and
+/// returns what the ranks sent here, in rank order, with their counts.
+template <class T>
+std::vector<T> exchange(const std::vector<T>& send, const std::vector<int>& counts, MPI_Datatype type,
+                        std::vector<int>& received_counts) {
+  const int parts = ranks::size();
+  received_counts.assign(static_cast<std::size_t>(parts), 0);
+  MPI_Alltoall(counts.data(), 1, MPI_INT, received_counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  std::vector<int> send_at(static_cast<std::size_t>(parts), 0), receive_at(static_cast<std::size_t>(parts), 0);
+  for (int r = 1; r < parts; ++r) {
+    send_at[r] = send_at[r - 1] + counts[r - 1];
+    receive_at[r] = receive_at[r - 1] + received_counts[r - 1];
+  }
+  std::vector<T> received(static_cast<std::size_t>(receive_at[parts - 1] + received_counts[parts - 1]));
+  MPI_Alltoallv(send.data(), counts.data(), send_at.data(), type, received.data(), received_counts.data(),
+                receive_at.data(), type, PETSC_COMM_WORLD);
+  return received;
+}
+
+}  // namespace
+
+void DistributedSystem::make(const SparseMatrix& M, int block, bool blocked, const std::vector<int>& rank_nodes) {
   destroy();
   const int n = static_cast<int>(M.rows());
   outer_.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.outerSize() + 1);
   inner_.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
   const int parts = ranks::size(), me = ranks::rank();
-  ranges_.assign(static_cast<std::size_t>(parts) + 1, 0);
-  order_.resize(static_cast<std::size_t>(n));
-  const int nodes = nodal_rows / block;
-  if (node_part && static_cast<int>(node_part->size()) == nodes) {
-    // The parts' nodes in turn (ascending within a part), each node's rows
-    // together; the rows that are no node's (multipliers) on the last rank.
-    std::vector<int> count(static_cast<std::size_t>(parts), 0);
-    for (const int p : *node_part) ++count[static_cast<std::size_t>(p)];
-    std::vector<int> next(static_cast<std::size_t>(parts), 0);
-    for (int r = 1; r < parts; ++r) next[r] = next[r - 1] + count[r - 1] * block;
-    for (int B = 0; B < nodes; ++B)
-      for (int i = 0; i < block; ++i) order_[next[(*node_part)[B]]++] = B * block + i;
-    for (int i = nodal_rows; i < n; ++i) order_[i] = i;
-    for (int r = 0; r < parts; ++r) ranges_[r + 1] = ranges_[r] + count[r] * block;
-    ranges_[parts] = n;
+  ranges_.assign(static_cast<std::size_t>(parts) + 1, n);
+  if (static_cast<int>(rank_nodes.size()) == parts + 1) {
+    for (int r = 0; r < parts; ++r) ranges_[r] = static_cast<std::int64_t>(rank_nodes[r]) * block;
   } else {
-    // Contiguous ranges cut where the entries before reach r/N of all,
-    // moved down to a node's first row among the nodal rows.
-    std::vector<long> entries(static_cast<std::size_t>(n) + 1, 0);
-    for (const int i : inner_) ++entries[static_cast<std::size_t>(i) + 1];
-    for (int i = 0; i < n; ++i) entries[i + 1] += entries[i];
-    for (int r = 1; r < parts; ++r) {
-      const long target = entries[n] * r / parts;
-      int i = static_cast<int>(std::lower_bound(entries.begin(), entries.end(), target) - entries.begin());
-      i = std::min(i, n);
-      if (i < nodal_rows) i -= i % block;
-      ranges_[r] = std::max<std::int64_t>(i, ranges_[r - 1]);
-    }
-    ranges_[parts] = n;
-    for (int i = 0; i < n; ++i) order_[i] = i;
+    const std::int64_t nodes = n / block;
+    for (int r = 0; r < parts; ++r) ranges_[r] = nodes * r / parts * block;
   }
-  std::vector<PetscInt> index(static_cast<std::size_t>(n));  // model row → PETSc row
-  for (int p = 0; p < n; ++p) index[order_[p]] = p;
   first_ = static_cast<PetscInt>(ranges_[me]);
   end_ = static_cast<PetscInt>(ranges_[me + 1]);
-  const int local = static_cast<int>(end_ - first_);
   block_ = blocked ? block : 1;
-  const int b = block_;
-  const int rows = local / b;  // this rank's (block) rows
-  // Two passes over the columns: count each (block) row's (block)
-  // columns, then hand out their slots; then each row's slots are sorted by
-  // their PETSc column.
-  std::vector<PetscInt> seen(static_cast<std::size_t>(rows), -1);
-  row_start_.assign(static_cast<std::size_t>(rows) + 1, 0);
+  const int b = block_, bb = b * b;
+  const PetscInt rows = (end_ - first_) / b;  // this rank's (block) rows
   const int columns = n / b;
-  const auto local_row = [&](int i) { return (index[i] - first_) / b; };
-  const auto mine = [&](int i) { return index[i] >= first_ && index[i] < end_; };
+  const auto owner = [&](int i) {
+    return static_cast<int>(std::upper_bound(ranges_.begin(), ranges_.end(), static_cast<std::int64_t>(i)) -
+                            ranges_.begin()) -
+           1;
+  };
+  const auto mine = [&](int i) { return i >= first_ && i < end_; };
+  // This rank's own (block) rows' columns, ascending: count, then fill.
+  std::vector<PetscInt> seen(static_cast<std::size_t>(rows), -1);
+  std::vector<PetscInt> own_start(static_cast<std::size_t>(rows) + 1, 0);
+  std::vector<std::vector<BlockPair>> remote(static_cast<std::size_t>(parts));
   for (int J = 0; J < columns; ++J)
-    for (int k = outer_[J * b]; k < outer_[(J + 1) * b]; ++k)
-      if (const int i = inner_[k]; mine(i))
-        if (const PetscInt I = local_row(i); seen[I] != J) seen[I] = J, ++row_start_[I + 1];
-  for (int I = 0; I < rows; ++I) row_start_[I + 1] += row_start_[I];
-  column_.resize(static_cast<std::size_t>(row_start_[rows]));
-  std::vector<PetscInt> slot_of(inner_.size(), -1);
-  std::vector<PetscInt> next(row_start_.begin(), row_start_.end() - 1);
-  std::vector<PetscInt> slot(static_cast<std::size_t>(rows), -1);
-  std::fill(seen.begin(), seen.end(), -1);
-  for (int J = 0; J < columns; ++J)
-    for (int j = J * b; j < (J + 1) * b; ++j)
-      for (int k = outer_[j]; k < outer_[j + 1]; ++k) {
-        const int i = inner_[k];
-        if (!mine(i)) continue;
-        const PetscInt I = local_row(i);
-        if (seen[I] != J) {
-          seen[I] = J;
-          slot[I] = next[I]++;
-          column_[slot[I]] = index[J * b] / b;
-        }
-        slot_of[k] = slot[I];
+    for (int k = outer_[J * b]; k < outer_[(J + 1) * b]; ++k) {
+      const int i = inner_[k];
+      if (!mine(i)) {
+        remote[static_cast<std::size_t>(owner(i))].emplace_back(i / b, J);
+        continue;
       }
-  // Sorted columns within each row (as PETSc keeps them); rank[s] is slot
-  // s's place in its row after sorting.
-  std::vector<PetscInt> rank(column_.size());
-  for (int I = 0; I < rows; ++I) {
-    const PetscInt begin = row_start_[I], end = row_start_[I + 1];
-    std::vector<PetscInt> by_column(static_cast<std::size_t>(end - begin));
-    for (PetscInt s = begin; s < end; ++s) by_column[s - begin] = s;
-    std::sort(by_column.begin(), by_column.end(), [&](PetscInt x, PetscInt y) { return column_[x] < column_[y]; });
-    std::vector<PetscInt> sorted(by_column.size());
-    for (std::size_t q = 0; q < by_column.size(); ++q) {
-      rank[by_column[q]] = static_cast<PetscInt>(q);
-      sorted[q] = column_[by_column[q]];
+      if (const PetscInt I = (i - first_) / b; seen[I] != J) seen[I] = J, ++own_start[I + 1];
     }
-    std::copy(sorted.begin(), sorted.end(), column_.begin() + begin);
+  for (PetscInt I = 0; I < rows; ++I) own_start[I + 1] += own_start[I];
+  std::vector<PetscInt> own(static_cast<std::size_t>(own_start[rows]));
+  {
+    std::vector<PetscInt> next(own_start.begin(), own_start.end() - 1);
+    std::fill(seen.begin(), seen.end(), -1);
+    for (int J = 0; J < columns; ++J)
+      for (int k = outer_[J * b]; k < outer_[(J + 1) * b]; ++k)
+        if (const int i = inner_[k]; mine(i))
+          if (const PetscInt I = (i - first_) / b; seen[I] != J) seen[I] = J, own[next[I]++] = J;
   }
-  to_.assign(inner_.size(), -1);
+  // The blocks this rank adds into other ranks' rows, sorted, to them; and theirs here.
+  std::vector<PetscInt> pairs_out;
+  std::vector<int> pair_counts(static_cast<std::size_t>(parts), 0);
+  for (int r = 0; r < parts; ++r) {
+    auto& list = remote[static_cast<std::size_t>(r)];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    for (const auto& [I, J] : list) pairs_out.push_back(I), pairs_out.push_back(J);
+    pair_counts[r] = static_cast<int>(2 * list.size());
+  }
+  std::vector<int> pairs_in_counts;
+  const std::vector<PetscInt> pairs_in = exchange(pairs_out, pair_counts, MPIU_INT, pairs_in_counts);
+  std::vector<BlockPair> incoming;
+  for (std::size_t q = 0; q < pairs_in.size(); q += 2) incoming.emplace_back(pairs_in[q] - first_ / b, pairs_in[q + 1]);
+  std::vector<BlockPair> extra = incoming;
+  std::sort(extra.begin(), extra.end());
+  extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
+  // Each row's columns: its own and those sent to it, merged.
+  row_start_.assign(static_cast<std::size_t>(rows) + 1, 0);
+  column_.clear();
+  column_.reserve(own.size() + extra.size());
+  auto e = extra.begin();
+  std::vector<PetscInt> sent;
+  for (PetscInt I = 0; I < rows; ++I) {
+    sent.clear();
+    for (; e != extra.end() && e->first == I; ++e) sent.push_back(e->second);
+    std::set_union(own.begin() + own_start[I], own.begin() + own_start[I + 1], sent.begin(), sent.end(),
+                   std::back_inserter(column_));
+    row_start_[I + 1] = static_cast<PetscInt>(column_.size());
+  }
+  // Where each value goes: row-major within the block row (b rows of
+  // (blocks · b) values), or its slot in the values sent.
+  const auto position = [&](PetscInt I, PetscInt J, int ii, int jj) {
+    const PetscInt begin = row_start_[I], end = row_start_[I + 1];
+    const PetscInt slot = std::lower_bound(column_.begin() + begin, column_.begin() + end, J) - column_.begin() - begin;
+    return begin * bb + ii * (end - begin) * b + slot * b + jj;
+  };
+  std::vector<PetscInt> send_at(static_cast<std::size_t>(parts) + 1, 0);
+  for (int r = 0; r < parts; ++r)
+    send_at[r + 1] = send_at[r] + static_cast<PetscInt>(remote[static_cast<std::size_t>(r)].size()) * bb;
+  to_.assign(inner_.size(), 0);
   for (int j = 0; j < n; ++j)
     for (int k = outer_[j]; k < outer_[j + 1]; ++k) {
-      if (slot_of[k] < 0) continue;
       const int i = inner_[k];
-      const PetscInt I = local_row(i);
-      // Row-major within the block row: b rows of (blocks · b) values.
-      const PetscInt width = (row_start_[I + 1] - row_start_[I]) * b;
-      to_[k] = row_start_[I] * b * b + (index[i] % b) * width + rank[slot_of[k]] * b + index[j] % b;
+      if (mine(i)) {
+        to_[k] = position((i - first_) / b, j / b, (i - first_) % b, j % b);
+        continue;
+      }
+      const int r = owner(i);
+      const auto& list = remote[static_cast<std::size_t>(r)];
+      const auto q = std::lower_bound(list.begin(), list.end(), BlockPair(i / b, j / b)) - list.begin();
+      to_[k] = -1 - (send_at[r] + q * bb + (i % b) * b + j % b);
     }
-  values_.assign(static_cast<std::size_t>(row_start_[rows]) * b * b, 0.0);
+  send_.assign(static_cast<std::size_t>(send_at[parts]), 0.0);
+  send_counts_.assign(static_cast<std::size_t>(parts), 0);
+  for (int r = 0; r < parts; ++r) send_counts_[r] = static_cast<int>(send_at[r + 1] - send_at[r]);
+  receive_counts_.assign(static_cast<std::size_t>(parts), 0);
+  for (int r = 0; r < parts; ++r) receive_counts_[r] = pairs_in_counts[r] / 2 * bb;
+  received_to_.clear();
+  received_to_.reserve(incoming.size() * bb);
+  for (const auto& [I, J] : incoming)
+    for (int ii = 0; ii < b; ++ii)
+      for (int jj = 0; jj < b; ++jj) received_to_.push_back(position(I, J, ii, jj));
+  received_.assign(received_to_.size(), 0.0);
+  values_.assign(static_cast<std::size_t>(row_start_[rows]) * bb, 0.0);
+  const PetscInt local = end_ - first_;
   check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
   check(MatSetSizes(A_, local, local, n, n), "MatSetSizes");
   if (blocked) {
@@ -135,10 +174,12 @@ void DistributedSystem::make(const SparseMatrix& M, int block, int nodal_rows, b
           "MatMPIBAIJSetPreallocationCSR");
   } else {
     check(MatSetType(A_, MATMPIAIJ), "MatSetType");
-    if (block > 1 && nodal_rows == n) check(MatSetBlockSize(A_, block), "MatSetBlockSize");
+    if (block > 1 && static_cast<int>(rank_nodes.size()) == parts + 1 &&
+        static_cast<std::int64_t>(rank_nodes.back()) * block == n)  // all rows nodal
+      check(MatSetBlockSize(A_, block), "MatSetBlockSize");
     check(MatMPIAIJSetPreallocationCSR(A_, row_start_.data(), column_.data(), nullptr), "MatMPIAIJSetPreallocationCSR");
   }
-  // Every rank sets its own rows: the assembly sends nothing.
+  // Every rank sets its own rows: what it adds into others' rows went to them in copy_values().
   check(MatSetOption(A_, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE), "MatSetOption");
   check(MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
   check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
@@ -147,9 +188,21 @@ void DistributedSystem::make(const SparseMatrix& M, int block, int nodal_rows, b
 
 void DistributedSystem::copy_values(const SparseMatrix& M) {
   const double* v = M.valuePtr();
+  std::fill(values_.begin(), values_.end(), 0.0);
   const auto size = static_cast<std::ptrdiff_t>(to_.size());
-  for (std::ptrdiff_t k = 0; k < size; ++k)
-    if (to_[k] >= 0) values_[static_cast<std::size_t>(to_[k])] = v[k];
+  for (std::ptrdiff_t k = 0; k < size; ++k) {
+    const PetscInt t = to_[static_cast<std::size_t>(k)];
+    if (t >= 0)
+      values_[static_cast<std::size_t>(t)] = v[k];
+    else
+      send_[static_cast<std::size_t>(-1 - t)] = v[k];
+  }
+  {
+    std::vector<int> counts;
+    received_ = exchange(send_, send_counts_, MPI_DOUBLE, counts);
+  }
+  // The others' terms after this rank's own, in rank order: the same bits run after run.
+  for (std::size_t q = 0; q < received_.size(); ++q) values_[static_cast<std::size_t>(received_to_[q])] += received_[q];
   const int b = block_;
   const auto rows = static_cast<PetscInt>(row_start_.size()) - 1;
   for (PetscInt I = 0; I < rows; ++I) {
@@ -166,7 +219,7 @@ void DistributedSystem::copy_values(const SparseMatrix& M) {
 }
 
 void DistributedSystem::local_entries(const double* full, PetscScalar* out) const {
-  for (PetscInt p = first_; p < end_; ++p) out[p - first_] = full[order_[p]];
+  std::copy(full + first_, full + end_, out);
 }
 
 void DistributedSystem::set_rhs(const Eigen::VectorXd& rhs) {
@@ -184,7 +237,7 @@ void DistributedSystem::gather_solution(Eigen::VectorXd& out) {
   const PetscScalar* v = nullptr;
   out.resize(n);
   check(VecGetArrayRead(all_, &v), "VecGetArrayRead");
-  for (PetscInt p = 0; p < n; ++p) out[order_[p]] = v[p];
+  std::copy(v, v + n, out.data());
   check(VecRestoreArrayRead(all_, &v), "VecRestoreArrayRead");
 }
 

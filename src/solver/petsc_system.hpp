@@ -1,13 +1,15 @@
 #pragma once
 /// A linear system A x = b distributed over the ranks (solver/ranks.hpp)
-/// as PETSc objects, filled from the Eigen matrix every rank holds: rank r
-/// owns the rows of the nodes of part r (solver/graph_partition.hpp), or
-/// without parts a contiguous range of rows holding about 1/N of the
-/// entries, and copies only those rows' entries (no communication). PETSc
-/// numbers the rows rank by rank (the parts' nodes in turn, a node's D rows
-/// together, rows that are no node's last). Node-block (MPIBAIJ) or scalar
-/// (MPIAIJ) storage. The solution is gathered back to every rank.
-/// Private to the solver layer (it includes PETSc).
+/// as PETSc objects. Rank r owns the rows of the nodes [rank_nodes[r],
+/// rank_nodes[r+1]) (a node's rows together; the rows beyond the nodes'
+/// are the last rank's), numbered as the model numbers them. Each rank
+/// passes its part of the system as an Eigen matrix of the full size: its
+/// own rows, and in other rows the terms it adds there (a slave's
+/// elimination into its master's rows); those are sent to the rows' owner
+/// and summed after the owner's own, in rank order, so the same ranks give
+/// the same bits. Node-block (MPIBAIJ) or scalar (MPIAIJ) storage. The
+/// solution is gathered back to every rank. Private to the solver layer
+/// (it includes PETSc).
 #include <petscksp.h>
 
 #include <cstdint>
@@ -24,20 +26,20 @@ class DistributedSystem {
   DistributedSystem(const DistributedSystem&) = delete;
   DistributedSystem& operator=(const DistributedSystem&) = delete;
 
-  /// Whether M has the pattern the matrix was made for.
+  /// Whether M has the pattern the matrix was made for (this rank's part).
   [[nodiscard]] bool same_pattern(const SparseMatrix& M) const;
-  /// A new matrix (and vectors) for M's pattern, without values:
-  /// `block` > 1 groups the first `nodal_rows` rows in nodes of `block`
-  /// rows (a rank has all of a node's rows or none); `blocked` stores D × D
-  /// blocks (MPIBAIJ, needs all rows nodal), else entries (MPIAIJ, with
-  /// the block size noted when all rows are nodal). `node_part`: each
-  /// node's rank (null, or not one per node: contiguous ranges).
-  void make(const SparseMatrix& M, int block, int nodal_rows, bool blocked,
-            const std::vector<int>* node_part = nullptr);
-  /// Copies M's values into the matrix (M has the pattern of make()).
+  /// A new matrix (and vectors) for the pattern of this rank's part M,
+  /// merged with the parts the others send, without values. `block` rows
+  /// make a node; `blocked` stores block × block blocks (MPIBAIJ, needs
+  /// all rows nodal), else entries (MPIAIJ, with the block size noted when
+  /// all rows are nodal). `rank_nodes`: the ranks' node ranges (empty:
+  /// about equal numbers of nodes). Collective.
+  void make(const SparseMatrix& M, int block, bool blocked, const std::vector<int>& rank_nodes);
+  /// Sets the matrix from this rank's part M (the pattern of make()):
+  /// collective.
   void copy_values(const SparseMatrix& M);
-  /// This rank's entries (in PETSc's numbering) of a full vector of the
-  /// matrix's rows: out[p − first_row()] = full[row of PETSc row p].
+  /// This rank's entries of a full vector of the matrix's rows:
+  /// out[p − first_row()] = full[p].
   void local_entries(const double* full, PetscScalar* out) const;
   /// b's rows of this rank from the full right-hand side.
   void set_rhs(const Eigen::VectorXd& rhs);
@@ -47,22 +49,26 @@ class DistributedSystem {
   [[nodiscard]] ::Mat matrix() const { return A_; }
   [[nodiscard]] ::Vec rhs() const { return b_; }
   [[nodiscard]] ::Vec solution() const { return x_; }
-  /// This rank's rows [first_row, end_row) in PETSc's numbering.
+  /// This rank's rows [first_row, end_row).
   [[nodiscard]] PetscInt first_row() const { return first_; }
   [[nodiscard]] PetscInt end_row() const { return end_; }
-  /// Every rank's first row in PETSc's numbering, and the number of rows last.
+  /// Every rank's first row, and the number of rows last.
   [[nodiscard]] const std::vector<std::int64_t>& row_ranges() const { return ranges_; }
+  /// Entries this rank sent to other ranks' rows at each copy_values().
+  [[nodiscard]] std::int64_t sent_entries() const { return static_cast<std::int64_t>(send_.size()); }
 
  private:
   void destroy();
-  std::vector<int> outer_, inner_;  ///< the CSC pattern the matrix was made for
+  std::vector<int> outer_, inner_;  ///< the CSC pattern of this rank's part the matrix was made for
   PetscInt first_ = 0, end_ = 0;
   std::vector<std::int64_t> ranges_;
-  std::vector<int> order_;                    ///< PETSc row → the matrix's row
   int block_ = 1;                             ///< rows per stored block (1: MPIAIJ)
   std::vector<PetscInt> row_start_, column_;  ///< this rank's (block) rows, global (block) columns
-  std::vector<PetscInt> to_;                  ///< CSC position → position in values_, −1: another rank's
-  std::vector<PetscScalar> values_;           ///< per (block) row, its values row-major (MatSetValues[Blocked])
+  std::vector<PetscInt> to_;          ///< CSC position → position in values_ (≥ 0) or −1 − position in send_
+  std::vector<PetscScalar> values_;   ///< per (block) row, its values row-major (MatSetValues[Blocked])
+  std::vector<PetscScalar> send_, received_;  ///< the values for other ranks' rows, by rank; and from them
+  std::vector<int> send_counts_, receive_counts_;  ///< per rank, in values
+  std::vector<PetscInt> received_to_;         ///< per received value: its position in values_
   ::Mat A_ = nullptr;
   ::Vec b_ = nullptr, x_ = nullptr, all_ = nullptr;
   VecScatter gather_ = nullptr;

@@ -69,6 +69,12 @@ int max(int value) { return reduce(value, MPI_INT, MPI_MAX); }
 double max(double value) { return reduce(value, MPI_DOUBLE, MPI_MAX); }
 double sum(double value) { return reduce(value, MPI_DOUBLE, MPI_SUM); }
 
+std::vector<double> all(double value) {
+  std::vector<double> out(static_cast<std::size_t>(size()), value);
+  if (out.size() > 1) MPI_Allgather(&value, 1, MPI_DOUBLE, out.data(), 1, MPI_DOUBLE, world());
+  return out;
+}
+
 void broadcast(Eigen::VectorXd& x, int from) {
   if (size() == 1) return;
   long n = static_cast<long>(x.size());

@@ -1,8 +1,10 @@
 #pragma once
 /// The MPI ranks of a run (PETSc's world communicator). Each rank holds
-/// the whole model and state and takes the same decisions from the same
-/// bits; what is distributed is the linear solve (each rank owns a range
-/// of the system's rows, solver/petsc_system.hpp) and the VTU pieces.
+/// the whole model's nodes and state and takes the same decisions from
+/// the same bits; what is distributed is the assembly and the tangent
+/// (each rank owns a range of the nodes and their rows, with the cells
+/// around them: model::Model::rank_nodes), the linear solve
+/// (solver/petsc_system.hpp) and the VTU pieces.
 /// Without a launcher there is one rank. Functions marked collective must
 /// be called by every rank, in the same order.
 #include <Eigen/Core>
@@ -23,6 +25,10 @@ namespace conserve::solver::ranks {
 
 /// The sum of the ranks' values (collective).
 [[nodiscard]] double sum(double value);
+
+/// Every rank's value in rank order (collective): what a sum that must
+/// give the same bits run after run adds up in that order.
+[[nodiscard]] std::vector<double> all(double value);
 
 /// Rank `from`'s x on every rank, resized there (collective).
 void broadcast(Eigen::VectorXd& x, int from = 0);

@@ -272,10 +272,13 @@ void FreeBodies<D>::tangent(const SparseMatrix& K, const SparseMatrix& masked, S
     const Motion& m = motions[b];
     auto block = qq.block<kUnknowns, kUnknowns>(static_cast<Eigen::Index>(b) * kUnknowns,
                                                 static_cast<Eigen::Index>(b) * kUnknowns);
-    // The nodal inertia is not the body's: its part of K_pp out, the body's in.
+    // The nodal inertia is not the body's: its part of K_pp out (from the
+    // rows this rank holds), the body's in (by the rank of the body's rows).
     for (int bn = 0; bn < body.num_nodes; ++bn)
       for (const auto& [a, mass] : body.mass_columns[static_cast<std::size_t>(bn)])
-        block -= test[b][static_cast<std::size_t>(a)] * (c2 * mass) * trial[b][static_cast<std::size_t>(bn)];
+        if (assembler_.model().owns(body.first_node + a))
+          block -= test[b][static_cast<std::size_t>(a)] * (c2 * mass) * trial[b][static_cast<std::size_t>(bn)];
+    if (!assembler_.model().owns_extra_rows()) continue;
     block.template topLeftCorner<D, D>() += body.mass * c2 * Eigen::Matrix<double, D, D>::Identity();
     // ∂/∂W of (cay(Ŵ) y(W) − π_n)/Δt, y = R_n (2 I₀ R_nᵀ W/Δt − Π_n), and of
     // Σ r_n+½ × h through r_n+½ (h, the nodal forces, held).

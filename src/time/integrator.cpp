@@ -23,10 +23,11 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
       bodies_(assembler),
       max_passes_(max_passes),
       solver_(solver::make_linear_solver(linear, assembler.model().num_dofs())) {
-  mask_ = assembly::DirichletMask(K_, assembler.model().held_dofs());
+  const model::Model<D>& model = assembler.model();
+  mask_ = assembly::DirichletMask(K_, model.held_dofs(), {model.first_owned() * D, model.end_owned() * D});
   solver_->set_timings(&timings_);
-  solver_->set_coordinates(assembler.model().X);
-  solver_->set_node_graph(assembler.pattern().node_offsets(), assembler.pattern().node_neighbours());
+  solver_->set_coordinates(model.X);
+  solver_->set_layout(model.rank_nodes);
 }
 
 template <int D>

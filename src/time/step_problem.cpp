@@ -137,7 +137,7 @@ const SparseMatrix& StepProblem<D>::tangent() {
     // elimination's constraints' nodes, a penalty's pairs): then the mask
     // is remade.
     if (coupling_->tangent(u_np1_, K_, g_, K_reduced_))
-      reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs());
+      reduced_mask_ = assembly::DirichletMask(K_reduced_, mask_.dofs(), mask_.owned());
     system = &K_reduced_;
   }
   const SparseMatrix unmasked = bodies_ ? *system : SparseMatrix();  // the bodies read its held rows and columns

@@ -109,10 +109,12 @@ void SurfaceLoads<D>::add_derivative(const Eigen::VectorXd& u_np1, SparseMatrix&
           dA << 0.0, -e.z(), e.y(), e.z(), 0.0, -e.x(), -e.y(), e.x(), 0.0;
           dA *= 0.5;
         }
-        for (int a = 0; a < D; ++a)
+        for (int a = 0; a < D; ++a) {
+          if (!model.owns(load.facets(a, k))) continue;  // another rank's row
           for (int i = 0; i < D; ++i)
             for (int j = 0; j < D; ++j)
               K.coeffRef(load.facets(a, k) * D + i, load.facets(b, k) * D + j) -= c * dA(i, j);
+        }
       }
   }
 }

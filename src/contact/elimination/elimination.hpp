@@ -119,6 +119,9 @@ class Elimination {
   /// holding each constraint by its own unknown measures the constraint's
   /// residual from. The constraints and the maps are left as they were.
   void place_each(Eigen::VectorXd& u);
+  /// Whether this rank owns `node` (TangentReduction::owns): it adds the
+  /// terms of the constraints whose slave it is.
+  [[nodiscard]] bool owns(int node) const { return reduction_->owns(node); }
   /// Pattern builds of the reduced tangent so far (by all the eliminations
   /// sharing its reduction).
   [[nodiscard]] int pattern_builds() const { return reduction_->builds(); }

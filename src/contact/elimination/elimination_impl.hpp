@@ -801,6 +801,7 @@ bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd
   // A frictionless slave has D − (its constraints) slips; stick none.
   for (std::size_t c = 0; c < groups_.size(); ++c) {
     const int s = slaves_[c];
+    if (!reduction_->owns(s)) continue;  // another rank's slave: its rank adds β and V
     double trace = 0.0;
     for (int i = 0; i < D; ++i) trace += K.coeff(s * D + i, s * D + i);
     Mat<D> beta = Mat<D>::Zero();
@@ -835,7 +836,7 @@ bool Elimination<D>::reduce_tangent(const SparseMatrix& K, const Eigen::VectorXd
     }
   }
   for (std::size_t c = 0; c < groups_.size(); ++c)
-    add_variation(static_cast<int>(c), passed.template segment<D>(slaves_[c] * D), K_r);
+    if (reduction_->owns(slaves_[c])) add_variation(static_cast<int>(c), passed.template segment<D>(slaves_[c] * D), K_r);
   return new_pattern;
 }
 

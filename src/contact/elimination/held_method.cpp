@@ -63,6 +63,7 @@ HeldMethod<D>::HeldMethod(const model::Model<D>& model, const SparseMatrix& mass
     : model_(model), active_(model, std::move(pairs)), restorer_(model, mass) {
   if (persistent) persistent_.emplace(model, mass);
   active_.locate_impacts(location);
+  reduction_->set_owned(model.first_owned(), model.end_owned());
 }
 
 template <int D>

@@ -158,6 +158,7 @@ void TangentReduction<D>::make_slave_blocks(const SlaveRows<D>& rows, std::vecto
   slave_rows_.assign(slaves, {});
   slave_cols_.assign(slaves, {});
   for (int c = 0; c < slaves; ++c) {
+    if (!owns(rows.slaves[c])) continue;  // V and β are the slave's rank's
     slave_rows_[c] = rows.test[c].nodes;
     slave_cols_[c] = rows.trial[c].nodes;
     slave_rows_[c].push_back(rows.slaves[c]);

@@ -12,7 +12,12 @@
 /// values in contiguous runs and adds the slave blocks: O(nnz) work, no
 /// allocation, and the same pattern (explicit zeros kept) while the
 /// constraints' nodes do not change, so a solver's symbolic analysis of
-/// K_r is reused.
+/// K_r is reused. On a rank of a distributed run K holds the rank's rows
+/// (assembly/block_pattern.hpp): each product is then formed by the rank
+/// that holds its row of K, and V and β by the rank that owns the slave,
+/// so every term is added once, some into other ranks' rows, which the
+/// linear system sums (solver/petsc_system.hpp).
+#include <limits>
 #include <vector>
 
 #include "core/types.hpp"
@@ -50,7 +55,8 @@ class TangentReduction {
   bool reduce(const SparseMatrix& K, const SlaveRows<D>& rows, SparseMatrix& K_r);
   /// K_r(M, N) += X (D × D node block) where M is slave c's node or one of
   /// its test row's nodes and N its node or one of its trial row's nodes
-  /// (the blocks of V and β); K_r from the last reduce().
+  /// (the blocks of V and β); K_r from the last reduce(). Slave c must be
+  /// this rank's (owns()).
   void add(int c, int M, int N, const Mat<D>& X, SparseMatrix& K_r) const;
   /// The same by slots: row_slot(c, M) and column_slot(c, N), looked up
   /// once for a row or column of V's blocks.
@@ -59,6 +65,11 @@ class TangentReduction {
   [[nodiscard]] int column_slot(int c, int N) const;
   /// Pattern builds so far (for tests: reuse while the nodes are unchanged).
   [[nodiscard]] int builds() const { return builds_; }
+  /// This rank's nodes [first, end) (model::Model::rank_nodes): the
+  /// constraints whose slave it owns get V's and β's blocks here (all by
+  /// default). Set before the first reduce().
+  void set_owned(int first, int end) { owned_first_ = first, owned_end_ = end; }
+  [[nodiscard]] bool owns(int node) const { return node >= owned_first_ && node < owned_end_; }
 
  private:
   struct Run {
@@ -109,6 +120,7 @@ class TangentReduction {
   std::vector<std::vector<int>> slave_rows_, slave_cols_, slave_table_;  ///< per constraint: V's and β's blocks
   std::vector<double> buffer_;
   int builds_ = 0;
+  int owned_first_ = 0, owned_end_ = std::numeric_limits<int>::max();
 };
 
 }  // namespace conserve::contact

@@ -99,10 +99,14 @@ class LagrangeCoupling final : public Coupling {
     for (int col = 0; col < K.outerSize(); ++col)
       for (SparseMatrix::InnerIterator it(K, col); it; ++it) t.emplace_back(it.row(), col, it.value());
     const SlaveRows<D> rows = e_->slave_rows();
-    for (const int k : idle_) t.emplace_back(static_cast<int>(n) + k, static_cast<int>(n) + k, beta_);
+    // Each constraint's terms are added by the rank that owns its slave
+    // (the others' go to it: solver/petsc_system.hpp).
+    for (const int k : idle_)
+      if (e_->owns(slot_slave(k))) t.emplace_back(static_cast<int>(n) + k, static_cast<int>(n) + k, beta_);
     for (const Multiplier<D>& mk : multipliers_) {
       const int k = mk.slot;
       const int s = rows.slaves[static_cast<std::size_t>(mk.group)];
+      if (!e_->owns(s)) continue;
       const auto lam = static_cast<int>(n) + k;
       for (int i = 0; i < D; ++i) {
         t.emplace_back(s * D + i, lam, mk.force(i));           // B
@@ -213,6 +217,7 @@ class LagrangeCoupling final : public Coupling {
       stick[c] = e_->constraints()[static_cast<std::size_t>(e_->group_constraints(c)[0])].kind == Kind::stick;
     constexpr int N = D * (D + 1);
     for (std::size_t c = 0; c < groups; ++c) {
+      if (!e_->owns(rows.slaves[c])) continue;  // the slave's rank adds it
       // Every entry is kept, zero or not, so that the pattern stays while the constraints do.
       const Eigen::MatrixXd G = force[c].isZero() ? Eigen::MatrixXd::Zero(N, N) : e_->force_variation(c, force[c]);
       const typename Elimination<D>::Coefficients& tr = e_->local_trial(c);
@@ -250,6 +255,12 @@ class LagrangeCoupling final : public Coupling {
           add(tr_d.nodes[x], column * follow_d * tr_d.master.block(0, static_cast<Eigen::Index>(x) * D, D, D));
       }
     }
+  }
+
+  /// The slave of the constraint whose multipliers hold slot k.
+  [[nodiscard]] int slot_slave(int k) const {
+    const auto j = std::upper_bound(first_.begin(), first_.end(), k) - first_.begin() - 1;
+    return e_->constraints()[static_cast<std::size_t>(j)].slave;
   }
 
   std::unique_ptr<Elimination<D>> e_;

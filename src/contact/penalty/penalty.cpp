@@ -417,7 +417,7 @@ const SparseMatrix& PenaltyMethod<D>::pattern(const SparseMatrix& K, const std::
     for (int i : node)
       for (int j : node) {
         auto& extra = extra_[static_cast<std::size_t>(i)];
-        if (i == j || std::find(extra.begin(), extra.end(), j) != extra.end() || in_K(i, j)) continue;
+        if (std::find(extra.begin(), extra.end(), j) != extra.end() || in_K(i, j)) continue;  // (i, i) too: another rank's row
         extra.push_back(j);
         grown = true;
       }
@@ -466,15 +466,19 @@ class PenaltySystem final : public Coupling {
     r = g;
   }
   bool tangent(const Eigen::VectorXd& u, const SparseMatrix& K, const Eigen::VectorXd&, SparseMatrix& A) override {
+    // Each coupling's tangent is added by the rank that owns its slave.
+    std::vector<PenaltyCoupling> mine;
+    for (const PenaltyCoupling& c : couplings_)
+      if (method_.owns(c.slave)) mine.push_back(c);
     const std::vector<int>* from_K = nullptr;
     int builds = 0;
-    const SparseMatrix& pattern = method_.pattern(K, couplings_, from_K, builds);
+    const SparseMatrix& pattern = method_.pattern(K, mine, from_K, builds);
     const bool fresh = builds > 0 || A.nonZeros() != pattern.nonZeros() || A.rows() != pattern.rows();
     if (fresh) A = pattern;
     std::fill(A.valuePtr(), A.valuePtr() + A.nonZeros(), 0.0);
     for (std::size_t k = 0; k < from_K->size(); ++k) A.valuePtr()[(*from_K)[k]] += K.valuePtr()[k];
     Eigen::VectorXd unused = Eigen::VectorXd::Zero(u.size());
-    method_.add_force(couplings_, u_n_, u, unused, nullptr, &A);
+    method_.add_force(mine, u_n_, u, unused, nullptr, &A);
     return fresh;
   }
   void update(const Eigen::VectorXd& increment, Eigen::VectorXd& u) override { u += increment; }

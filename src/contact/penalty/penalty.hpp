@@ -88,6 +88,9 @@ class PenaltyMethod final : public Method<D> {
 
   [[nodiscard]] std::string_view name() const override { return "penalty"; }
   [[nodiscard]] CollisionSet<D>& collisions() override { return collisions_; }
+  /// Whether this rank owns `node` (model::Model::owns): it adds the
+  /// tangents of the couplings whose slave it is.
+  [[nodiscard]] bool owns(int node) const { return model_.owns(node); }
   void begin_step(std::int64_t step, double dt, const model::State& start) override;
   [[nodiscard]] std::unique_ptr<Coupling> coupling(const Eigen::VectorXd& u_n, const Eigen::VectorXd& u_np1) override;
   [[nodiscard]] double split_fraction(const Eigen::VectorXd&, const Eigen::VectorXd&) override { return 1.0; }
