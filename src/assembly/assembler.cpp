@@ -128,6 +128,15 @@ void Assembler<D>::share(RankShare share) {
 }
 
 template <int D>
+void Assembler<D>::cells_kept() {
+  pattern_.renumber_to_kept();
+  partition_ = {};
+  rank_partition_ = {};
+  measures_ = {};
+  measured_u_.resize(0);
+}
+
+template <int D>
 std::vector<double> Assembler<D>::all(double value) const {
   if (model_.num_ranks() == 1) return {value};
   return share_.all(value);
@@ -295,7 +304,7 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
   Orientation o{std::numeric_limits<double>::infinity(), -1};
   for (int c = 0; c < n; ++c)
     if (model_.owns(model_.cells(0, c)) && det[static_cast<std::size_t>(c)] < o.det_F)
-      o = {det[static_cast<std::size_t>(c)], c};
+      o = {det[static_cast<std::size_t>(c)], model_.global_cell(c)};
   const std::vector<double> dets = all(o.det_F), at = all(static_cast<double>(o.cell));
   m.orientation = {std::numeric_limits<double>::infinity(), -1};
   for (std::size_t r = 0; r < dets.size(); ++r) {  // the lowest cell on ties
@@ -316,7 +325,7 @@ Orientation Assembler<D>::min_det_F(const Eigen::VectorXd& u) const {
   });
   Orientation o{std::numeric_limits<double>::infinity(), -1};
   for (int c = 0; c < model_.num_cells(); ++c)
-    if (det[c] < o.det_F) o = {det[c], c};
+    if (det[c] < o.det_F) o = {det[c], model_.global_cell(c)};
   return o;
 }
 

@@ -22,7 +22,7 @@ namespace conserve::assembly {
 /// The most compressed cell of a configuration.
 struct Orientation {
   double det_F = 0.0;  ///< smallest det F over the cells (≤ 0: inverted)
-  int cell = -1;       ///< global cell, −1 if there are no cells
+  int cell = -1;       ///< global cell (model::Model::global_cell), −1 if there are no cells
 };
 
 /// How the ranks of a run share the assembly's work (solver/ranks.hpp):
@@ -57,6 +57,10 @@ class Assembler {
   /// The ranks' exchanges for a model of several ranks (Model::rank_nodes):
   /// needed before the first force or measure on more than one rank.
   void share(RankShare share);
+  /// The model now holds the pattern's kept cells alone
+  /// (model::keep_cells(model, pattern().kept_cell_ids())): the cells'
+  /// numbering changes to theirs.
+  void cells_kept();
   /// This rank's nodes [first, end) (all nodes on one rank).
   [[nodiscard]] std::pair<int, int> rank_nodes() const { return {model_.first_owned(), model_.end_owned()}; }
   /// The nodes' scalar mass matrix M_AB [kg], nodes × nodes: the dofs'
@@ -133,10 +137,10 @@ class Assembler {
   [[nodiscard]] const StateMeasures& measures(const Eigen::VectorXd& u) const;
 
   /// The smallest det F over the cells at displacements u, and its cell
-  /// (the lowest such cell on ties): every cell, on any rank.
+  /// (the lowest such cell on ties): every cell the model holds.
   [[nodiscard]] Orientation min_det_F(const Eigen::VectorXd& u) const;
 
-  /// Stored energy W(u) = Σ_cells V ρ0Ψ [J]: every cell, on any rank.
+  /// Stored energy W(u) = Σ_cells V ρ0Ψ [J] of every cell the model holds.
   [[nodiscard]] double strain_energy(const Eigen::VectorXd& u) const;
 
   /// Current positions of a cell's nodes relative to its first node,

@@ -1,6 +1,11 @@
 #include "assembly/block_pattern.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <limits>
+
+#include "core/error.hpp"
 
 namespace conserve::assembly {
 
@@ -59,6 +64,14 @@ BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
     std::sort(first_at, last);
     count[n] = static_cast<int>(std::unique(first_at, last) - first_at);
   }
+  // The entries this pattern holds are counted in 32 bits (Eigen's and
+  // UMFPACK's indices, a 32-bit PETSc): a rank's share beyond that needs more ranks.
+  long long entries = 0;
+  for (std::size_t n = 0; n < nodes; ++n) entries += static_cast<long long>(count[n]) * D * D;
+  if (entries > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("the tangent's rows of {} nodes hold {} entries, more than 2^31 - 1 (32-bit "
+                                 "indices): run on more MPI ranks, each holding fewer nodes",
+                                 end_ - first_, entries));
   offsets_.assign(nodes + 1, 0);
   for (std::size_t n = 0; n < nodes; ++n) offsets_[n + 1] = offsets_[n] + count[n];
   neighbours_.resize(static_cast<std::size_t>(offsets_[nodes]));
@@ -109,6 +122,22 @@ void BlockPattern<D>::add_identity_blocks(double c, const SparseMatrix& N, doubl
       for (int k = 0; k < D; ++k) values[outer_[B * D + k] + rank * D + k] += value;
     }
   }
+}
+
+template <int D>
+std::vector<int> BlockPattern<D>::kept_cell_ids() const {
+  std::vector<int> ids;
+  ids.reserve(static_cast<std::size_t>(cells_.cols()));
+  for (std::size_t c = 0; c < local_cell_.size(); ++c)
+    if (local_cell_[c] >= 0) ids.push_back(static_cast<int>(c));
+  return ids;
+}
+
+template <int D>
+void BlockPattern<D>::renumber_to_kept() {
+  local_cell_.resize(static_cast<std::size_t>(cells_.cols()));
+  for (std::size_t c = 0; c < local_cell_.size(); ++c) local_cell_[c] = static_cast<int>(c);
+  local_cell_.shrink_to_fit();
 }
 
 template <int D>

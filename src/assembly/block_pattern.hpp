@@ -74,6 +74,11 @@ class BlockPattern {
   /// The cell's index among the kept cells (ascending with the cells), −1 if not kept.
   [[nodiscard]] int local_cell(int cell) const { return local_cell_[static_cast<std::size_t>(cell)]; }
   [[nodiscard]] int kept_cells() const { return static_cast<int>(cells_.cols()); }
+  /// The kept cells, ascending.
+  [[nodiscard]] std::vector<int> kept_cell_ids() const;
+  /// From now on cells are numbered as the kept ones (the model kept only
+  /// those: model::keep_cells with kept_cell_ids()).
+  void renumber_to_kept();
   /// The kept rows' nodes [first_row(), end_row()).
   [[nodiscard]] int first_row() const { return first_; }
   [[nodiscard]] int end_row() const { return end_; }

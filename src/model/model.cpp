@@ -38,6 +38,8 @@ Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
   model.X.rightCols(body.num_nodes) = mesh.points.topRows(D);
   model.cells.conservativeResize(D + 1, body.first_cell + body.num_cells);
   if (body.num_cells > 0) model.cells.rightCols(body.num_cells) = mesh.cells.array() + body.first_node;
+  model.geometry.reserve(model.geometry.size() + static_cast<std::size_t>(body.num_cells));  // no growth slack
+  model.cell_body.reserve(model.cell_body.size() + static_cast<std::size_t>(body.num_cells));
   for (int c = 0; c < body.num_cells; ++c) {
     fem::NodeMatrix<D> Xc;
     for (int a = 0; a <= D; ++a) Xc.col(a) = model.X.col(model.cells(a, body.first_cell + c));
@@ -87,6 +89,29 @@ Eigen::MatrixXi distinct_facets(const Body& body) {
   return out;
 }
 
+template <int D>
+void keep_cells(Model<D>& model, const std::vector<int>& kept) {
+  Eigen::MatrixXi cells(D + 1, static_cast<Eigen::Index>(kept.size()));
+  std::vector<fem::SimplexGeometry<D>> geometry;
+  std::vector<int> body, ids;
+  geometry.reserve(kept.size());
+  body.reserve(kept.size());
+  ids.reserve(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const int c = kept[k];
+    cells.col(static_cast<Eigen::Index>(k)) = model.cells.col(c);
+    geometry.push_back(model.geometry[static_cast<std::size_t>(c)]);
+    body.push_back(model.cell_body[static_cast<std::size_t>(c)]);
+    ids.push_back(model.global_cell(c));
+  }
+  model.cells = std::move(cells);
+  model.geometry = std::move(geometry);
+  model.cell_body = std::move(body);
+  model.cell_ids = std::move(ids);
+}
+
+template void keep_cells<2>(Model<2>&, const std::vector<int>&);
+template void keep_cells<3>(Model<3>&, const std::vector<int>&);
 template Body& add_body<2>(Model<2>&, const mesh::Mesh&, const std::string&, std::shared_ptr<const material::Law>,
                            double, double);
 template Body& add_body<3>(Model<3>&, const mesh::Mesh&, const std::string&, std::shared_ptr<const material::Law>,

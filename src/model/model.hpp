@@ -64,9 +64,24 @@ struct Model {
   /// rank, all nodes.
   std::vector<int> rank_nodes;
   int rank = 0;
+  /// On several ranks, once the run is wired (keep_cells): the global
+  /// number of each cell this rank holds, which are the cells with a corner
+  /// among its nodes, in ascending order; `cells`, `geometry` and
+  /// `cell_body` hold those alone, while Body::first_cell and num_cells
+  /// keep the global numbering. Empty: every cell, in order.
+  std::vector<int> cell_ids;
 
   [[nodiscard]] int num_nodes() const { return static_cast<int>(X.cols()); }
+  /// The cells held (this rank's after keep_cells).
   [[nodiscard]] int num_cells() const { return static_cast<int>(cells.cols()); }
+  /// The global number of held cell c.
+  [[nodiscard]] int global_cell(int c) const { return cell_ids.empty() ? c : cell_ids[static_cast<std::size_t>(c)]; }
+  /// The body holding global cell `cell`.
+  [[nodiscard]] int body_of_cell(int cell) const {
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+      if (cell >= bodies[b].first_cell && cell < bodies[b].first_cell + bodies[b].num_cells) return static_cast<int>(b);
+    return -1;
+  }
   [[nodiscard]] int num_dofs() const { return D * num_nodes(); }
   [[nodiscard]] int num_ranks() const { return rank_nodes.empty() ? 1 : static_cast<int>(rank_nodes.size()) - 1; }
   /// This rank's nodes [first, end).
@@ -98,6 +113,13 @@ struct Model {
 template <int D>
 Body& add_body(Model<D>& model, const mesh::Mesh& mesh, const std::string& name,
                std::shared_ptr<const material::Law> law, double density, double thickness);
+
+/// Keeps the held cells `kept` (ascending indices into the cells held
+/// now) and drops the others (Model::cell_ids): what a rank of a
+/// distributed run keeps once everything that needs every cell (contact
+/// surfaces, the mass matrix, checkpoints' fingerprint) is built.
+template <int D>
+void keep_cells(Model<D>& model, const std::vector<int>& kept);
 
 /// Node numbers (global, sorted, unique) of a body's group; "all" is every
 /// node of the body. Throws InputError listing the groups if unknown.

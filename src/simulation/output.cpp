@@ -193,11 +193,18 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   const auto& model = assembler_.model();
   io::VtuGrid grid;
   grid.points = model.X + state.u.reshaped(D, model.num_nodes());
-  const auto cells = model.num_cells();
-  const auto facets = surface_facets_.cols();
+  // On several ranks each writes the cells whose first node it owns (its
+  // held cells are those with any corner among its nodes), and rank 0 the
+  // bare surfaces.
+  std::vector<int> written;
+  written.reserve(static_cast<std::size_t>(model.num_cells()));
+  for (int c = 0; c < model.num_cells(); ++c)
+    if (ranks_ == 1 || model.owns(model.cells(0, c))) written.push_back(c);
+  const auto cells = static_cast<Eigen::Index>(written.size());
+  const auto facets = ranks_ == 1 || rank_ == 0 ? surface_facets_.cols() : Eigen::Index{0};
   grid.cells = Eigen::MatrixXi::Zero(D + 1, cells + facets);
-  grid.cells.leftCols(cells) = model.cells;
-  grid.cells.block(0, cells, D, facets) = surface_facets_;
+  for (Eigen::Index k = 0; k < cells; ++k) grid.cells.col(k) = model.cells.col(written[static_cast<std::size_t>(k)]);
+  grid.cells.block(0, cells, D, facets) = surface_facets_.leftCols(facets);
   if (facets > 0) {  // mixed: simplices of D + 1 nodes, then facets of D
     grid.nodes_per_cell.assign(static_cast<std::size_t>(cells), D + 1);
     grid.nodes_per_cell.resize(static_cast<std::size_t>(cells + facets), D);
@@ -214,7 +221,7 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
   // Cauchy stress as ParaView's symmetric tensor (xx, yy, zz, xy, yz, xz).
   io::VtuField stress{"stress", 6, {}, {"xx", "yy", "zz", "xy", "yz", "xz"}}, mises{"von_mises", 1, {}},
       energy{"strain_energy_density", 1, {}}, body{"body", 1, {}};
-  for (int c = 0; c < model.num_cells(); ++c) {
+  for (const int c : written) {
     const material::Law& law = *model.bodies[model.cell_body[c]].law;
     const fem::NodeMatrix<D> x = assembler_.cell_positions(c, state.u);
     const Mat3 sigma = fem::cauchy_stress<D>(model.geometry[c], law, x);
@@ -226,10 +233,11 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
     body.values.push_back(model.cell_body[c]);
   }
   // Bare surfaces have no stress or energy density (NaN: undefined).
-  stress.values.resize(stress.values.size() + 6 * surface_body_.size(), std::nan(""));
-  mises.values.resize(mises.values.size() + surface_body_.size(), std::nan(""));
-  energy.values.resize(energy.values.size() + surface_body_.size(), std::nan(""));
-  body.values.insert(body.values.end(), surface_body_.begin(), surface_body_.end());
+  const auto surfaces = static_cast<std::size_t>(facets);
+  stress.values.resize(stress.values.size() + 6 * surfaces, std::nan(""));
+  mises.values.resize(mises.values.size() + surfaces, std::nan(""));
+  energy.values.resize(energy.values.size() + surfaces, std::nan(""));
+  body.values.insert(body.values.end(), surface_body_.begin(), surface_body_.begin() + facets);
   grid.cell_data = {std::move(stress), std::move(mises), std::move(energy), std::move(body)};
   ++frames_;
   if (ranks_ == 1) {
@@ -237,10 +245,9 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
     frame_bytes_ += io::write_vtu(directory_ / name, grid, format_);
     pvd_->add(state.time, name);
   } else {
-    const auto share = [&](int r) { return grid.cells.cols() * r / ranks_; };
     const auto piece_name = [&](int r) { return fmt::format("step_{:06d}_{}.vtu", state.step, r); };
     frame_bytes_ +=
-        io::write_vtu(directory_ / "vtu" / piece_name(rank_), io::piece(grid, share(rank_), share(rank_ + 1)), format_);
+        io::write_vtu(directory_ / "vtu" / piece_name(rank_), io::piece(grid, 0, grid.cells.cols()), format_);
     if (rank_ == 0) {
       std::vector<std::string> pieces;
       for (int r = 0; r < ranks_; ++r) pieces.push_back(piece_name(r));

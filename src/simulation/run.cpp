@@ -91,7 +91,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   Stepper<D> stepper(sc);
   const Problem<D>& problem = stepper.problem();
   if (options.warn)
-    for (const std::string& w : plausibility_warnings<D>(sc, problem.model, stepper.pairs())) options.warn(w);
+    for (const std::string& w : stepper.warnings()) options.warn(w);
   const assembly::Assembler<D>& assembler = stepper.assembler();
   contact::Method<D>* contact = stepper.contact();
   time::Integrator<D>& integrator = stepper.integrator();
@@ -99,7 +99,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   RunSummary summary;
   summary.output_directory = options.output_directory.value_or(sc.output.directory);
   const std::filesystem::path& dir = summary.output_directory;
-  const Fingerprint fingerprint = scenario_fingerprint<D>(sc, problem.model);
+  const Fingerprint& fingerprint = stepper.fingerprint();
   model::State state = problem.initial;
   const time::Diagnostics d0 = time::diagnostics<D>(assembler, state);
   const DriftTracker drift(problem.model.size(), d0, conservation(sc));
@@ -251,6 +251,7 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.ranks = ranks::size();
   summary.row_ranges = integrator.linear_solver().row_ranges();
   summary.peak_memory_bytes = ranks::max(peak_memory_bytes());
+  if (ranks::size() > 1) summary.rank_peak_memory_bytes = ranks::all(peak_memory_bytes());
   summary.timings = integrator.timings();
   summary.linear_solver = integrator.linear_solver().name();
   if (contact) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "simulation/contact_setup.hpp"
+#include "simulation/plausibility.hpp"
 #include "solver/ranks.hpp"
 
 namespace conserve::simulation {
@@ -50,10 +51,16 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
       threads_(scenario.solver.threads, problem_.model.num_cells()) {
   integrator_->set_predictor(scenario.newton.predictor == io::PredictorKind::rigid ? time::Predictor::rigid
                                                                                    : time::Predictor::velocity);
-  // On several ranks each assembles the forces and tangents of its nodes.
-  if (solver::ranks::size() > 1)
+  warnings_ = plausibility_warnings<D>(scenario, problem_.model, pairs_);
+  fingerprint_ = scenario_fingerprint<D>(scenario, problem_.model);
+  // On several ranks each assembles the forces and tangents of its nodes,
+  // from the cells around them, which are all the model keeps from now on.
+  if (solver::ranks::size() > 1) {
     assembler_->share(
         {solver::ranks::rank(), solver::ranks::size(), &solver::ranks::gather_segments, &solver::ranks::all});
+    model::keep_cells(problem_.model, assembler_->pattern().kept_cell_ids());
+    assembler_->cells_kept();
+  }
 }
 
 template <int D>

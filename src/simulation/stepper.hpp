@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "io/scenario.hpp"
 #include "simulation/checkpoint.hpp"
+#include "simulation/fingerprint.hpp"
 #include "simulation/setup.hpp"
 #include "solver/newton.hpp"
 #include "time/integrator.hpp"
@@ -39,7 +40,9 @@ template <int D>
 class Stepper {
  public:
   /// Builds the model (simulation/setup.hpp) and its contact pairs; throws
-  /// InputError on bad input. `scenario` must outlive the stepper.
+  /// InputError on bad input. `scenario` must outlive the stepper. On
+  /// several ranks the model then keeps this rank's cells alone
+  /// (model::keep_cells): everything that needs every cell is built here.
   explicit Stepper(const io::Scenario& scenario);
   Stepper(const Stepper&) = delete;
   Stepper& operator=(const Stepper&) = delete;
@@ -51,6 +54,10 @@ class Stepper {
   [[nodiscard]] contact::Method<D>* contact() { return contact_.get(); }
   /// The contact pairs (none without contact).
   [[nodiscard]] const std::vector<contact::ContactPair<D>>& pairs() const { return pairs_; }
+  /// What `conserve check` warns of in the scenario (simulation/plausibility.hpp).
+  [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
+  /// The scenario's and the model's fingerprint for checkpoints (simulation/fingerprint.hpp).
+  [[nodiscard]] const Fingerprint& fingerprint() const { return fingerprint_; }
   /// The active set when the method holds constraints (elimination, multipliers), else null.
   [[nodiscard]] contact::ActiveSet<D>* active_set() {
     auto* e = dynamic_cast<contact::HeldMethod<D>*>(contact_.get());
@@ -85,6 +92,8 @@ class Stepper {
   std::unique_ptr<time::Integrator<D>> integrator_;
   StepControl control_;
   assembly::ThreadGovernor threads_;
+  std::vector<std::string> warnings_;
+  Fingerprint fingerprint_;
   std::string last_failure_;
 };
 

@@ -254,7 +254,11 @@ struct KrylovSolver::Petsc {
   void new_matrix(const SparseMatrix& M) {
     const int n = static_cast<int>(M.rows());
     outer.assign(M.outerIndexPtr(), M.outerIndexPtr() + M.outerSize() + 1);
-    inner.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
+    // On several ranks the system keeps the pattern (and compares it).
+    if (distributed)
+      inner.clear();
+    else
+      inner.assign(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros());
     const int dim = static_cast<int>(X.rows());
     // Node blocks only for a system of the model's own unknowns: one with
     // extra unknowns (contact multipliers) has rows that are no node's.

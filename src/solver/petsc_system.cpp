@@ -130,12 +130,51 @@ void DistributedSystem::make(const SparseMatrix& M, int block, bool blocked, con
                    std::back_inserter(column_));
     row_start_[I + 1] = static_cast<PetscInt>(column_.size());
   }
-  // Where each value goes: row-major within the block row (b rows of
-  // (blocks · b) values), or its slot in the values sent.
-  const auto position = [&](PetscInt I, PetscInt J, int ii, int jj) {
-    const PetscInt begin = row_start_[I], end = row_start_[I + 1];
-    const PetscInt slot = std::lower_bound(column_.begin() + begin, column_.begin() + end, J) - column_.begin() - begin;
-    return begin * bb + ii * (end - begin) * b + slot * b + jj;
+  const PetscInt local = end_ - first_;
+  check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
+  check(MatSetSizes(A_, local, local, n, n), "MatSetSizes");
+  if (blocked) {
+    check(MatSetType(A_, MATMPIBAIJ), "MatSetType");
+    check(MatMPIBAIJSetPreallocationCSR(A_, b, row_start_.data(), column_.data(), nullptr),
+          "MatMPIBAIJSetPreallocationCSR");
+  } else {
+    check(MatSetType(A_, MATMPIAIJ), "MatSetType");
+    if (block > 1 && static_cast<int>(rank_nodes.size()) == parts + 1 &&
+        static_cast<std::int64_t>(rank_nodes.back()) * block == n)  // all rows nodal
+      check(MatSetBlockSize(A_, block), "MatSetBlockSize");
+    check(MatMPIAIJSetPreallocationCSR(A_, row_start_.data(), column_.data(), nullptr), "MatMPIAIJSetPreallocationCSR");
+  }
+  check(MatSetOption(A_, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE), "MatSetOption");
+  check(MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  // Where each value goes: into the values of PETSc's diagonal block (the
+  // columns of this rank's rows) or, after them, of its off-diagonal block
+  // (the others' columns, numbered by `garray`), each block column-major.
+  ::Mat diagonal = nullptr, off = nullptr;
+  const PetscInt* garray = nullptr;
+  if (blocked)
+    check(MatMPIBAIJGetSeqBAIJ(A_, &diagonal, &off, &garray), "MatMPIBAIJGetSeqBAIJ");
+  else
+    check(MatMPIAIJGetSeqAIJ(A_, &diagonal, &off, &garray), "MatMPIAIJGetSeqAIJ");
+  PetscInt rows_d = 0, rows_o = 0, off_columns = 0;
+  const PetscInt *ia = nullptr, *ja = nullptr, *ib = nullptr, *jb = nullptr;
+  PetscBool done = PETSC_FALSE;
+  // Block rows for BAIJ; plain rows for AIJ (not compressed by inodes).
+  const PetscBool by_blocks = blocked ? PETSC_TRUE : PETSC_FALSE;
+  check(MatGetRowIJ(diagonal, 0, PETSC_FALSE, by_blocks, &rows_d, &ia, &ja, &done), "MatGetRowIJ");
+  check(MatGetRowIJ(off, 0, PETSC_FALSE, by_blocks, &rows_o, &ib, &jb, &done), "MatGetRowIJ");
+  check(MatGetLocalSize(off, nullptr, &off_columns), "MatGetLocalSize");
+  off_columns /= b;
+  diagonal_values_ = ia[rows_d] * bb;
+  off_values_ = ib[rows_o] * bb;
+  const PetscInt first_column = first_ / b, end_column = end_ / b;
+  const auto position = [&](PetscInt I, PetscInt J, int ii, int jj) -> PetscInt {
+    if (J >= first_column && J < end_column) {
+      const PetscInt k = std::lower_bound(ja + ia[I], ja + ia[I + 1], J - first_column) - ja;
+      return k * bb + jj * b + ii;
+    }
+    const PetscInt L = std::lower_bound(garray, garray + off_columns, J) - garray;
+    const PetscInt k = std::lower_bound(jb + ib[I], jb + ib[I + 1], L) - jb;
+    return diagonal_values_ + k * bb + jj * b + ii;
   };
   std::vector<PetscInt> send_at(static_cast<std::size_t>(parts) + 1, 0);
   for (int r = 0; r < parts; ++r)
@@ -164,36 +203,39 @@ void DistributedSystem::make(const SparseMatrix& M, int block, bool blocked, con
     for (int ii = 0; ii < b; ++ii)
       for (int jj = 0; jj < b; ++jj) received_to_.push_back(position(I, J, ii, jj));
   received_.assign(received_to_.size(), 0.0);
-  values_.assign(static_cast<std::size_t>(row_start_[rows]) * bb, 0.0);
-  const PetscInt local = end_ - first_;
-  check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
-  check(MatSetSizes(A_, local, local, n, n), "MatSetSizes");
-  if (blocked) {
-    check(MatSetType(A_, MATMPIBAIJ), "MatSetType");
-    check(MatMPIBAIJSetPreallocationCSR(A_, b, row_start_.data(), column_.data(), nullptr),
-          "MatMPIBAIJSetPreallocationCSR");
-  } else {
-    check(MatSetType(A_, MATMPIAIJ), "MatSetType");
-    if (block > 1 && static_cast<int>(rank_nodes.size()) == parts + 1 &&
-        static_cast<std::int64_t>(rank_nodes.back()) * block == n)  // all rows nodal
-      check(MatSetBlockSize(A_, block), "MatSetBlockSize");
-    check(MatMPIAIJSetPreallocationCSR(A_, row_start_.data(), column_.data(), nullptr), "MatMPIAIJSetPreallocationCSR");
-  }
-  // Every rank sets its own rows: what it adds into others' rows went to them in copy_values().
-  check(MatSetOption(A_, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE), "MatSetOption");
-  check(MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
+  check(MatRestoreRowIJ(diagonal, 0, PETSC_FALSE, by_blocks, &rows_d, &ia, &ja, &done), "MatRestoreRowIJ");
+  check(MatRestoreRowIJ(off, 0, PETSC_FALSE, by_blocks, &rows_o, &ib, &jb, &done), "MatRestoreRowIJ");
+  row_start_ = {};
+  column_ = {};
   check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
   check(VecScatterCreateToAll(x_, &gather_, &all_), "VecScatterCreateToAll");
 }
 
 void DistributedSystem::copy_values(const SparseMatrix& M) {
+  ::Mat diagonal = nullptr, off = nullptr;
+  const PetscInt* garray = nullptr;
+  const bool blocked = block_ > 1;
+  if (blocked)
+    check(MatMPIBAIJGetSeqBAIJ(A_, &diagonal, &off, &garray), "MatMPIBAIJGetSeqBAIJ");
+  else
+    check(MatMPIAIJGetSeqAIJ(A_, &diagonal, &off, &garray), "MatMPIAIJGetSeqAIJ");
+  PetscScalar *d = nullptr, *o = nullptr;
+  if (blocked) {
+    check(MatSeqBAIJGetArray(diagonal, &d), "MatSeqBAIJGetArray");
+    check(MatSeqBAIJGetArray(off, &o), "MatSeqBAIJGetArray");
+  } else {
+    check(MatSeqAIJGetArray(diagonal, &d), "MatSeqAIJGetArray");
+    check(MatSeqAIJGetArray(off, &o), "MatSeqAIJGetArray");
+  }
+  std::fill(d, d + diagonal_values_, 0.0);
+  std::fill(o, o + off_values_, 0.0);
+  const auto at = [&](PetscInt t) -> PetscScalar& { return t < diagonal_values_ ? d[t] : o[t - diagonal_values_]; };
   const double* v = M.valuePtr();
-  std::fill(values_.begin(), values_.end(), 0.0);
   const auto size = static_cast<std::ptrdiff_t>(to_.size());
   for (std::ptrdiff_t k = 0; k < size; ++k) {
     const PetscInt t = to_[static_cast<std::size_t>(k)];
     if (t >= 0)
-      values_[static_cast<std::size_t>(t)] = v[k];
+      at(t) = v[k];
     else
       send_[static_cast<std::size_t>(-1 - t)] = v[k];
   }
@@ -202,18 +244,15 @@ void DistributedSystem::copy_values(const SparseMatrix& M) {
     received_ = exchange(send_, send_counts_, MPI_DOUBLE, counts);
   }
   // The others' terms after this rank's own, in rank order: the same bits run after run.
-  for (std::size_t q = 0; q < received_.size(); ++q) values_[static_cast<std::size_t>(received_to_[q])] += received_[q];
-  const int b = block_;
-  const auto rows = static_cast<PetscInt>(row_start_.size()) - 1;
-  for (PetscInt I = 0; I < rows; ++I) {
-    const PetscInt row = first_ / b + I, m = row_start_[I + 1] - row_start_[I];
-    const PetscScalar* values = values_.data() + row_start_[I] * b * b;
-    if (b > 1)
-      check(MatSetValuesBlocked(A_, 1, &row, m, column_.data() + row_start_[I], values, INSERT_VALUES),
-            "MatSetValuesBlocked");
-    else
-      check(MatSetValues(A_, 1, &row, m, column_.data() + row_start_[I], values, INSERT_VALUES), "MatSetValues");
+  for (std::size_t q = 0; q < received_.size(); ++q) at(received_to_[q]) += received_[q];
+  if (blocked) {
+    check(MatSeqBAIJRestoreArray(diagonal, &d), "MatSeqBAIJRestoreArray");
+    check(MatSeqBAIJRestoreArray(off, &o), "MatSeqBAIJRestoreArray");
+  } else {
+    check(MatSeqAIJRestoreArray(diagonal, &d), "MatSeqAIJRestoreArray");
+    check(MatSeqAIJRestoreArray(off, &o), "MatSeqAIJRestoreArray");
   }
+  // Assembly moves the matrix's state on, so the preconditioner rebuilds.
   check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   check(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
 }

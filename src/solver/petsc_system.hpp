@@ -63,9 +63,12 @@ class DistributedSystem {
   PetscInt first_ = 0, end_ = 0;
   std::vector<std::int64_t> ranges_;
   int block_ = 1;                             ///< rows per stored block (1: MPIAIJ)
-  std::vector<PetscInt> row_start_, column_;  ///< this rank's (block) rows, global (block) columns
-  std::vector<PetscInt> to_;          ///< CSC position → position in values_ (≥ 0) or −1 − position in send_
-  std::vector<PetscScalar> values_;   ///< per (block) row, its values row-major (MatSetValues[Blocked])
+  std::vector<PetscInt> row_start_, column_;  ///< while made: this rank's (block) rows, global (block) columns
+  /// CSC position → its value's position in PETSc's diagonal block, or
+  /// diagonal_values_ + its position in the off-diagonal block (≥ 0), or
+  /// −1 − its position in send_.
+  std::vector<PetscInt> to_;
+  PetscInt diagonal_values_ = 0, off_values_ = 0;  ///< the two blocks' values
   std::vector<PetscScalar> send_, received_;  ///< the values for other ranks' rows, by rank; and from them
   std::vector<int> send_counts_, receive_counts_;  ///< per rank, in values
   std::vector<PetscInt> received_to_;         ///< per received value: its position in values_

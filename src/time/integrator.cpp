@@ -349,7 +349,7 @@ void Integrator<D>::check_orientation(const Eigen::VectorXd& u, std::int64_t ste
   const assembly::Orientation o = assembler_.measures(u).orientation;  // kept for the report and the next step
   if (o.cell < 0 || o.det_F > 0.0) return;
   const auto& model = assembler_.model();
-  const auto& body = model.bodies[model.cell_body[o.cell]];
+  const auto& body = model.bodies[static_cast<std::size_t>(model.body_of_cell(o.cell))];
   throw SolverError(fmt::format("cell {} of body '{}' is inverted at the end of step {} (t = {:.6g} s): det F = {:.3g}",
                                 o.cell - body.first_cell, body.name, step, t, o.det_F));
 }
