@@ -11,7 +11,12 @@
 # into a part every rank holds and a part shared out (P(N) = R + S/N, from
 # 1 and 2 ranks). Writes bench/results/large_models.md.
 #
-#   bash bench/run_large.sh [--sizes "0.0182 0.0117 0.00774"] [--ranks "1 2"] [--steps 3] [--no-build]
+#   bash bench/run_large.sh [--sizes "0.0182 0.0117 0.00774"] [--ranks "1 2"] [--steps 3] [--set KEY=VALUE]...
+#                           [--reuse] [--no-build]
+#
+# --set passes a key to every run (e.g. solver.preconditioner=ilu: the
+# automatic choice takes GAMG from 2M unknowns); --reuse tabulates the runs
+# already in BENCH_WORK.
 #
 # The default sizes give about 0.1M, 0.35M and 1.18M unknowns; the largest
 # needs about 4 GB and 10 minutes on 2 cores (most of it Gmsh, once);
@@ -22,14 +27,18 @@ cd "$(dirname "$0")/.."
 sizes="0.0182 0.0117 0.00774"
 rank_counts="1 2"
 steps=3
+sets=()
+reuse=0
 build=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --sizes) sizes="$2"; shift ;;
     --steps) steps="$2"; shift ;;
     --ranks) rank_counts="$2"; shift ;;
+    --set) sets+=(--set "$2"); shift ;;
+    --reuse) reuse=1 ;;
     --no-build) build=0 ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
     *) echo "run_large.sh: unknown option $1 (--help)" >&2; exit 1 ;;
   esac
   shift
@@ -57,11 +66,12 @@ for h in $sizes; do
       examples/ball/ball_on_plane.toml > "$scen"
   grep -q '^file = ' "$scen" || { echo "run_large.sh: could not point $scen at $msh" >&2; exit 1; }
   for n in $rank_counts; do
+    [ "$reuse" -eq 1 ] && [ -f "$work/run_${h}_$n/summary.json" ] && continue
     echo "== run h = $h on $n rank(s) $(date -u +%H:%M:%S) UTC"
     launcher=()
     [ "$n" -gt 1 ] && launcher=(mpiexec -q --oversubscribe -n "$n")
     OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
-      "${launcher[@]}" "$bin" run "$scen" -o "$work/run_${h}_$n" --steps "$steps" -q > "$work/run_${h}_$n.log" 2>&1
+      "${launcher[@]}" "$bin" run "$scen" -o "$work/run_${h}_$n" --steps "$steps" -q "${sets[@]}" > "$work/run_${h}_$n.log" 2>&1
     tail -n 3 "$work/run_${h}_$n.log" | sed 's/^/   /'
   done
   rows+=("$h")
@@ -69,10 +79,12 @@ done
 # The smallest size once more with the file's own numbering (no reorder), on one rank.
 first=${rows[0]}
 sed '/^reorder = true/d' "$work/ball_$first.toml" > "$work/ball_${first}_file.toml"
-"$bin" run "$work/ball_${first}_file.toml" -o "$work/run_${first}_file" --steps "$steps" -q > "$work/run_${first}_file.log" 2>&1
-/usr/bin/python3 - "$work" "$rank_counts" "${rows[@]}" <<'PY'
+[ "$reuse" -eq 1 ] && [ -f "$work/run_${first}_file/summary.json" ] ||
+  "$bin" run "$work/ball_${first}_file.toml" -o "$work/run_${first}_file" --steps "$steps" -q "${sets[@]}" \
+    > "$work/run_${first}_file.log" 2>&1
+/usr/bin/python3 - "$work" "$rank_counts" "${sets[*]:-}" "${rows[@]}" <<'PY'
 import datetime, json, math, os, sys
-work, counts, sizes = sys.argv[1], [int(n) for n in sys.argv[2].split()], sys.argv[3:]
+work, counts, sets, sizes = sys.argv[1], [int(n) for n in sys.argv[2].split()], sys.argv[3], sys.argv[4:]
 rows = []
 for h in sizes:
     for n in counts:
@@ -90,7 +102,9 @@ def slope(key, ranks):
     mx, my = sum(x) / len(x), sum(y) / len(y)
     return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
 out = ["# Large models read from binary .msh files (the §6.3 ball's shell)", "",
-       f"`bash bench/run_large.sh --sizes \"{' '.join(sizes)}\" --ranks \"{' '.join(map(str, counts))}\"`. "
+       f"`bash bench/run_large.sh --sizes \"{' '.join(sizes)}\" --ranks \"{' '.join(map(str, counts))}\""
+       f"{' ' + sets if sets else ''}`; the linear solver as summary.json names it: "
+       f"{json.load(open(f'{work}/run_{sizes[-1]}_{counts[-1]}/summary.json'))['linear_solver']} at the largest size. "
        "Gmsh meshes each size once (Delaunay, one thread);",
        "conserve reads the file (`reorder = true`) and runs vibrating steps before any contact, on each number of "
        "MPI ranks (one process without a launcher).",

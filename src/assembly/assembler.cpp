@@ -270,6 +270,7 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
   Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.num_dofs());
   const NodePartition& parts = rank_partition();
   const auto [rank_first, rank_end] = rank_nodes();
+  const bool ranked = model_.num_ranks() > 1;
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
     Eigen::VectorXd& local = scratch_[p].force;
@@ -286,7 +287,8 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
       // The cell's start: by the part that owns its lowest corner on this
       // rank; its own figures: by the part (on the rank) that owns its first.
       int lowest = 0;
-      while (model_.cells(lowest, c) < rank_first || model_.cells(lowest, c) >= rank_end) ++lowest;
+      if (ranked)
+        while (model_.cells(lowest, c) < rank_first || model_.cells(lowest, c) >= rank_end) ++lowest;
       if (!(owned >> lowest & 1u)) continue;
       (*cells)[static_cast<std::size_t>(pattern_.local_cell(c))] = start;
       if (lowest != 0) continue;

@@ -184,7 +184,7 @@ struct NewtonSpec {
 struct SolverSpec {
   std::string method = "krylov";           ///< krylov | direct
   std::string preconditioner = "auto";     ///< auto | ilu | gamg (krylov)
-  int gamg_from = 2000000;                 ///< auto: GAMG from this many unknowns on
+  int gamg_from = 2147483647;              ///< auto: GAMG from this many unknowns on (default: never)
   int max_linear_iterations = 200;
   double forcing_max = 0.1;                ///< Eisenstat–Walker's largest relative linear tolerance
   bool modified_newton = true;             ///< keep the tangent while convergence is fast

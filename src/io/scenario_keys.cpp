@@ -139,9 +139,11 @@ SectionSpec solver_section() {
                       "gamg_from unknowns, gamg from there on)"},
               {.name = "gamg_from",
                .type = KeyType::integer,
-               .default_value = "2000000",
+               .default_value = "2147483647",
                .min = at_least(1),
-               .doc = "preconditioner = \"auto\": unknowns from which gamg is used"},
+               .doc = "preconditioner = \"auto\": unknowns from which gamg is used (by default never: ilu was "
+                      "2.4–3.6× faster per Newton iteration at 2.93M unknowns on 1 and 2 ranks, "
+                      "bench/results/scaling_model.md)"},
               {.name = "max_linear_iterations",
                .type = KeyType::integer,
                .default_value = "200",

@@ -1,13 +1,12 @@
 #pragma once
-/// The nodes of a run on several ranks split into parts, one per rank, of
-/// about equal work (a node weighs its neighbours: the entries of its
-/// rows) with few edges between them, so that each rank's block of the
-/// matrix holds most of its couplings (block Jacobi then loses little).
-/// Two candidates: PT-Scotch through PETSc's MatPartitioning (Debian's
-/// PETSc has no ParMETIS), and contiguous ranges of the nodes' order (a
-/// reverse Cuthill–McKee order's ranges are slabs, good while they are
-/// thick); the one with fewer edges cut is taken. Computed on rank 0 and
-/// sent to all, so every rank has the same parts.
+/// A graph partition of the nodes into parts of about equal work (a node
+/// weighs its neighbours: the entries of its rows) with few edges between
+/// them: PT-Scotch through PETSc's MatPartitioning (Debian's PETSc has no
+/// ParMETIS), or contiguous ranges of the nodes' order, whichever cuts
+/// fewer edges; computed on rank 0 and sent to all. A run's ranks own
+/// contiguous ranges of the model's numbering (model::Model::rank_nodes);
+/// this measures what a numbering by graph parts would save
+/// (bench/conserve_partition, bench/results/scaling_model.md).
 #include <vector>
 
 namespace conserve::solver {

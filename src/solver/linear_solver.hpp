@@ -22,14 +22,15 @@ enum class Preconditioner { automatic, ilu, gamg };
 
 struct LinearSolverSettings {
   Method method = Method::krylov;
-  /// automatic: ILU(0) below `gamg_from` unknowns, GAMG from there on.
-  /// Measured on the §6.3 ball (bench/results/size_sweep.md, RCM-ordered
-  /// mesh): ILU(0) is 3.6–4.5× faster than GAMG at 320k and 1.18M
-  /// unknowns (8 and 11.8 GMRES iterations against 6.5 and 5.9), so the
-  /// switch is beyond the sizes measured.
-  /// (bench/results/size_sweep.md measures where GAMG starts to win).
+  /// automatic: ILU(0) (block Jacobi with ILU(0) on several ranks) below
+  /// `gamg_from` unknowns, GAMG from there on; by default never GAMG.
+  /// Measured on the §6.3 ball (RCM-ordered mesh, one thread per rank):
+  /// a Newton iteration with ILU(0) took 9.7 s against 34.8 s with GAMG
+  /// at 2.93M unknowns on one rank, 6.3 s against 15.1 s on two
+  /// (bench/results/scaling_model.md), and 3.6–4.5× less at 320k and
+  /// 1.18M (bench/results/size_sweep.md).
   Preconditioner preconditioner = Preconditioner::automatic;
-  int gamg_from = 2000000;
+  int gamg_from = 2147483647;
   /// GMRES iterations per solve; a solve that reaches them returns its
   /// best iterate and Newton judges the nonlinear residual.
   int max_iterations = 200;
