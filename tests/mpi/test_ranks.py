@@ -127,7 +127,9 @@ class Ranks(unittest.TestCase):
                         self.assertEqual(ranges[:2], [0, 504])
                 else:
                     self.assertEqual(ranges, [])
-                exact = (*args, "--set", "solver.method=direct", "--set", "solver.modified_newton=false")
+                # 60 steps: contact from step 11 on, activations and sustained contact.
+                exact = (*extra, "--steps", 60, "--set", "output.vtu_every=0", "--set", "solver.method=direct",
+                         "--set", "solver.modified_newton=false")
                 run(0, scenario, self.dir / f"{name}1d", *exact)
                 run(RANKS, scenario, self.dir / f"{name}Nd", *exact)
                 one, many = history(self.dir / f"{name}1d"), history(self.dir / f"{name}Nd")
