@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <stdexcept>
 #include <vector>
 
 #include "assembly/threads.hpp"
@@ -122,9 +121,6 @@ const NodePartition& Assembler<D>::partition() const {
 template <int D>
 void Assembler<D>::share(RankShare share) {
   share_ = std::move(share);
-  if (share_.ranks != model_.num_ranks() || share_.rank != model_.rank)
-    throw std::invalid_argument("Assembler::share: the ranks differ from the model's");
-  rank_partition_ = {};
 }
 
 template <int D>

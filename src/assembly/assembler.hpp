@@ -26,9 +26,9 @@ struct Orientation {
 };
 
 /// How the ranks of a run share the assembly's work (solver/ranks.hpp):
-/// rank `rank` of `ranks` computes the force entries of its own nodes
-/// (Model::rank_nodes) and the tangent's rows of them, which are all it
-/// holds of the tangent (BlockPattern's kept rows). `gather` gives every
+/// each rank (Model::rank, of Model::rank_nodes) computes the force
+/// entries of its own nodes and the tangent's rows of them, which are all
+/// it holds of the tangent (BlockPattern's kept rows). `gather` gives every
 /// rank the others' force entries: gather(data, counts) replaces each
 /// rank's segment of `data` (counts[r] values, in rank order) by that
 /// rank's; `all` gives every rank's value of a figure in rank order. The
@@ -36,7 +36,6 @@ struct Orientation {
 /// ascending order, assembly/partition.hpp); sums and minima over the
 /// cells are summed rank by rank.
 struct RankShare {
-  int rank = 0, ranks = 1;
   std::function<void(double* data, const std::vector<int>& counts)> gather;
   std::function<std::vector<double>(double value)> all;
 };

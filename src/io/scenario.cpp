@@ -194,6 +194,7 @@ SolverSpec parse_solver(const Section& s) {
   solver.method = s.string("method");
   solver.preconditioner = s.string("preconditioner");
   solver.gamg_from = s.integer("gamg_from");
+  solver.graph_partition = s.string("partition") == "graph";
   solver.max_linear_iterations = s.integer("max_linear_iterations");
   solver.forcing_max = s.number("forcing_max");
   solver.modified_newton = s.boolean("modified_newton");

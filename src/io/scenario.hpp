@@ -185,6 +185,7 @@ struct SolverSpec {
   std::string method = "krylov";           ///< krylov | direct
   std::string preconditioner = "auto";     ///< auto | ilu | gamg (krylov)
   int gamg_from = 2147483647;              ///< auto: GAMG from this many unknowns on (default: never)
+  bool graph_partition = true;             ///< partition = "graph" (else "ranges"): simulation/rank_numbering.hpp
   int max_linear_iterations = 200;
   double forcing_max = 0.1;                ///< Eisenstat–Walker's largest relative linear tolerance
   bool modified_newton = true;             ///< keep the tangent while convergence is fast

@@ -144,6 +144,14 @@ SectionSpec solver_section() {
                .doc = "preconditioner = \"auto\": unknowns from which gamg is used (by default never: ilu was "
                       "2.4–3.6× faster per Newton iteration at 2.93M unknowns on 1 and 2 ranks, "
                       "bench/results/scaling_model.md)"},
+              {.name = "partition",
+               .type = KeyType::choice,
+               .default_value = "graph",
+               .choices = {"graph", "ranges"},
+               .doc = "on several MPI ranks: `graph` numbers the nodes of a body that ranks share (generated, or "
+                      "read with `reorder`) part by part of a PT-Scotch partition, so each rank holds a compact "
+                      "piece with few ghost nodes (a checkpoint then restarts on the same rank count only); "
+                      "`ranges` keeps one numbering for every rank count and cuts it into contiguous ranges"},
               {.name = "max_linear_iterations",
                .type = KeyType::integer,
                .default_value = "200",
@@ -164,7 +172,8 @@ SectionSpec solver_section() {
                       "each iteration reduces the residual 4× and, at that rate, reaches the tolerance with "
                       "iterations to spare; one that reduces it less than 100× while 3 more iterations are "
                       "projected is replaced at the next iterate, assembled in the same pass as its residual; "
-                      "same conservation (false: full Newton, a tangent per iteration)"},
+                      "same conservation (false: full Newton, a tangent per iteration); a step that fails with kept "
+                      "tangents is tried again with a fresh one per iteration before its Δt is halved"},
               {.name = "petsc_options",
                .type = KeyType::string,
                .default_value = "",

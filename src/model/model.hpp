@@ -64,6 +64,10 @@ struct Model {
   /// rank, all nodes.
   std::vector<int> rank_nodes;
   int rank = 0;
+  /// N if the nodes are numbered by the graph parts of N ranks
+  /// (simulation/rank_numbering.hpp), so that the numbering is this rank
+  /// count's alone; 0: the meshes' numbering, the same on any count.
+  int numbered_for_ranks = 0;
   /// On several ranks, once the run is wired (keep_cells): the global
   /// number of each cell this rank holds, which are the cells with a corner
   /// among its nodes, in ascending order; `cells`, `geometry` and

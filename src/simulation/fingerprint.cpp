@@ -6,9 +6,13 @@
 #include <algorithm>
 
 #include "material/law.hpp"
+#include "solver/ranks.hpp"
 
 namespace conserve::simulation {
 namespace {
+
+/// The entry of a numbering by N ranks' graph parts (its value: N).
+constexpr const char* kRankNumbering = "node numbering";
 
 /// FNV-1a over raw bytes.
 class Hasher {
@@ -140,6 +144,7 @@ const FingerprintEntry* find(const Fingerprint& f, const std::string& name) {
 template <int D>
 Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& model) {
   Builder f;
+  if (model.numbered_for_ranks > 0) f.setting(kRankNumbering, fmt::format("{}", model.numbered_for_ranks));
   f.setting("dimension", fmt::format("{}", D));
   std::vector<std::string> names;
   for (const auto& b : model.bodies) names.push_back(b.name);
@@ -199,6 +204,21 @@ Fingerprint scenario_fingerprint(const io::Scenario& sc, const model::Model<D>& 
 }
 
 std::string first_difference(const Fingerprint& checkpoint, const Fingerprint& scenario) {
+  // Nodes numbered for one rank count (simulation/rank_numbering.hpp).
+  const FingerprintEntry *was = find(checkpoint, kRankNumbering), *is = find(scenario, kRankNumbering);
+  const int ranks = solver::ranks::size();
+  const std::string run = fmt::format("this run has {} rank{}", ranks, ranks == 1 ? "" : "s");
+  if (was && (!is || was->value != is->value))
+    return fmt::format(
+        "the checkpoint was written on {} ranks, whose graph parts number its nodes, and {}{}: restart "
+        "on {} ranks (or run both with [solver] partition = \"ranges\", the same numbering on any "
+        "rank count)",
+        was->value, run, is ? "" : " numbering them as the meshes do", was->value);
+  if (is && !was)
+    return fmt::format(
+        "the checkpoint's nodes are numbered as the meshes number them, and {} numbering them by "
+        "their graph parts: run with [solver] partition = \"ranges\"",
+        run);
   for (const auto& was : checkpoint) {
     const FingerprintEntry* is = find(scenario, was.name);
     if (!is) return fmt::format("{} is not in this scenario", was.name);

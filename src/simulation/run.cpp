@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <vector>
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
@@ -39,6 +40,16 @@ std::int64_t step_count(const io::TimeSpec& t) {
 /// True once `state` has reached the end time (the stepper ends the last
 /// step there; within 1e-6 Δt counts as reached).
 bool finished(const io::TimeSpec& t, const model::State& state) { return state.time >= t.end - 1e-6 * t.step; }
+
+/// This rank's ghost nodes: the corners of its cells (those with a
+/// corner among its nodes, model::keep_cells) that other ranks own.
+template <int D>
+long ghost_nodes(const model::Model<D>& model) {
+  std::vector<int> corners(model.cells.data(), model.cells.data() + model.cells.size());
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  return static_cast<long>(std::count_if(corners.begin(), corners.end(), [&](int B) { return !model.owns(B); }));
+}
 
 /// What step `record` (ending in diagnostics `d`, the contact method
 /// `contact`, may be null) gives the statistics.
@@ -251,7 +262,10 @@ RunSummary run_dim(const io::Scenario& sc, const RunOptions& options) {
   summary.ranks = ranks::size();
   summary.row_ranges = integrator.linear_solver().row_ranges();
   summary.peak_memory_bytes = ranks::max(peak_memory_bytes());
-  if (ranks::size() > 1) summary.rank_peak_memory_bytes = ranks::all(peak_memory_bytes());
+  if (ranks::size() > 1) {
+    summary.rank_peak_memory_bytes = ranks::all(peak_memory_bytes());
+    summary.rank_ghost_nodes = ranks::all(static_cast<double>(ghost_nodes(problem.model)));
+  }
   summary.timings = integrator.timings();
   summary.linear_solver = integrator.linear_solver().name();
   if (contact) {

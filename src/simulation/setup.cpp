@@ -18,7 +18,7 @@
 #include "mesh/topology.hpp"
 #include "material/law.hpp"
 #include "model/initial_state.hpp"
-#include "assembly/partition.hpp"
+#include "simulation/rank_numbering.hpp"
 #include "solver/ordering.hpp"
 #include "solver/ranks.hpp"
 #include "time/integrator.hpp"
@@ -86,14 +86,13 @@ io::MaterialSpec rigid_placeholder(double density) {
   return {.model = "svk", .parameters = {{"young", 1.0}, {"poisson", 0.0}}, .density = density};
 }
 
-/// Adds body `i` of the scenario to the model.
+/// Adds body `i` of the scenario to the model, with its mesh (body_mesh).
 template <int D>
-void add_body(const io::Scenario& scenario, std::size_t i, model::Model<D>& model) {
+void add_body(const io::Scenario& scenario, std::size_t i, const mesh::Mesh& mesh, model::Model<D>& model) {
   const io::BodySpec& spec = scenario.bodies[i];
   const bool placeholder = spec.rigid && (!(spec.material.density > 0.0) || spec.material.parameters.empty());
   const io::MaterialSpec material = placeholder ? rigid_placeholder(spec.material.density) : spec.material;
   auto law = at_key(scenario, i, "material", [&] { return material::make_law(material.model, material.parameters); });
-  const mesh::Mesh mesh = body_mesh(scenario, i, D);
   const char* mesh_key = spec.mesh.generator.empty() ? "mesh.file" : "mesh.generator";
   if (mesh.num_cells() == 0 && !spec.rigid)
     throw body_error(scenario, i, mesh_key,
@@ -400,7 +399,22 @@ void check_scales(const io::Scenario& scenario, const model::Model<D>& model) {
 template <int D>
 Problem<D> setup(const io::Scenario& scenario) {
   Problem<D> p;
-  for (std::size_t i = 0; i < scenario.bodies.size(); ++i) add_body<D>(scenario, i, p.model);
+  std::vector<mesh::Mesh> meshes;
+  std::vector<bool> renumber;  // the body's numbering is the program's
+  for (std::size_t i = 0; i < scenario.bodies.size(); ++i) {
+    meshes.push_back(body_mesh(scenario, i, D));
+    renumber.push_back(!scenario.bodies[i].mesh.generator.empty() || scenario.bodies[i].mesh.reorder);
+  }
+  // On several ranks each owns a range of the nodes holding about equal
+  // shares of the cells' corners (the assembly's work).
+  if (const int ranks = solver::ranks::size(); ranks > 1) {
+    const RankNumbering n = number_for_ranks(meshes, renumber, ranks, scenario.solver.graph_partition);
+    p.model.rank_nodes = n.rank_nodes;
+    p.model.rank = solver::ranks::rank();
+    p.model.numbered_for_ranks = n.by_parts ? ranks : 0;
+  }
+  for (std::size_t i = 0; i < scenario.bodies.size(); ++i) add_body<D>(scenario, i, meshes[i], p.model);
+  meshes = {};
   check_scales<D>(scenario, p.model);
   p.model.gravity = scenario.gravity.head<D>();
   add_prescribed<D>(scenario, p.model);
@@ -424,12 +438,6 @@ Problem<D> setup(const io::Scenario& scenario) {
   }
   model::apply_prescribed<D>(p.model.prescribed, p.model.X, 0.0, p.initial.u, &p.initial.v);
   check_overlaps<D>(scenario, p.model, p.initial.u);
-  // On several ranks each owns a range of the nodes holding about equal
-  // shares of the cells' corners (the assembly's work).
-  if (const int ranks = solver::ranks::size(); ranks > 1) {
-    p.model.rank_nodes = assembly::partition_nodes(p.model.num_nodes(), p.model.cells, ranks).first_node;
-    p.model.rank = solver::ranks::rank();
-  }
   return p;
 }
 

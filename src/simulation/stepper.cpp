@@ -56,8 +56,7 @@ Stepper<D>::Stepper(const io::Scenario& scenario)
   // On several ranks each assembles the forces and tangents of its nodes,
   // from the cells around them, which are all the model keeps from now on.
   if (solver::ranks::size() > 1) {
-    assembler_->share(
-        {solver::ranks::rank(), solver::ranks::size(), &solver::ranks::gather_segments, &solver::ranks::all});
+    assembler_->share({&solver::ranks::gather_segments, &solver::ranks::all});
     model::keep_cells(problem_.model, assembler_->pattern().kept_cell_ids());
     assembler_->cells_kept();
   }
@@ -85,6 +84,15 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
   if (left < dt * (1.0 - 1e-9)) dt = left;
   int splits = 0, split_passes = 0;
   bool locate = true;
+  // A step that fails with a kept tangent (modified Newton, whose
+  // convergence is linear) is tried again at the same Δt with a fresh
+  // tangent at every iteration, and so are its cutbacks; the later steps
+  // keep tangents again.
+  struct Fresh {
+    time::Integrator<D>& integrator;
+    bool modified = integrator.modified_newton();
+    ~Fresh() { integrator.set_modified_newton(modified); }
+  } fresh{*integrator_};
   for (;;) {
     if (contact_) contact_->allow_splits(locate && splits < kMaxSplits);
     try {
@@ -117,11 +125,15 @@ StepRecord Stepper<D>::advance(model::State& state, double& dt_used, int& failur
       last_failure_ = e.what();
       restore();
       integrator_->drop_factorization();
+      ++failures;
+      if (integrator_->modified_newton()) {
+        integrator_->set_modified_newton(false);
+        continue;
+      }
       if (0.5 * dt < scenario_.time.min_step) throw FloorReached(e.what(), dt);
       control_.dt = 0.5 * dt;
       control_.good_steps = 0;
       ++control_.cutbacks;
-      ++failures;
       dt = control_.dt;
     }
   }

@@ -46,6 +46,7 @@ Json figures(const RunSummary& s, int unknowns) {
               {"row_ranges", s.row_ranges},
               {"peak_memory_bytes", peak},
               {"rank_peak_memory_bytes", s.rank_peak_memory_bytes},
+              {"rank_ghost_nodes", s.rank_ghost_nodes},
               {"bytes_per_unknown", unknowns > 0 ? peak / unknowns : 0.0},
               {"drift", drifts(s)},
               {"not_conserved", not_conserved(s)},

@@ -55,6 +55,9 @@ struct RunSummary {
   std::vector<std::int64_t> row_ranges;  ///< LinearSolver::row_ranges() of the last matrix
   double peak_memory_bytes = 0.0;
   std::vector<double> rank_peak_memory_bytes;  ///< each rank's, in rank order (empty: one rank)
+  /// Each rank's ghost nodes (other ranks' nodes sharing a cell with its
+  /// own: the columns of its rows held elsewhere), in rank order.
+  std::vector<double> rank_ghost_nodes;
   std::int64_t cutbacks = 0;  ///< failed step attempts retried with Δt halved
   /// The assembly's threads: why (assembly::ThreadGovernor::policy), and
   /// the fewest and most used.

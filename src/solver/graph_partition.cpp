@@ -2,10 +2,10 @@
 
 #include <petscmat.h>
 // scotch.h needs <cstdio> and <cstdint> first.
+#include <scotch.h>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <scotch.h>
 
 #include <algorithm>
 
@@ -18,19 +18,25 @@ using petsc::check;
 
 namespace {
 
-/// Contiguous ranges of nodes, each about 1/parts of the neighbours' sum.
-std::vector<int> contiguous(const std::vector<int>& offsets, int parts) {
+/// Contiguous ranges of nodes, part p about shares[p] of the neighbours' sum.
+std::vector<int> contiguous(const std::vector<int>& offsets, const std::vector<double>& shares) {
   const int nodes = static_cast<int>(offsets.size()) - 1;
+  const int parts = static_cast<int>(shares.size());
   std::vector<int> part(static_cast<std::size_t>(nodes));
-  const long total = offsets.back();
-  for (int B = 0; B < nodes; ++B)
-    part[static_cast<std::size_t>(B)] =
-        static_cast<int>(std::min<long>(parts - 1, static_cast<long>(offsets[B]) * parts / std::max(total, 1L)));
+  const auto total = static_cast<double>(offsets.back());
+  int p = 0;
+  double end = shares[0] * total;  // the work before part p's end
+  for (int B = 0; B < nodes; ++B) {
+    while (p + 1 < parts && offsets[B] >= end) end += shares[static_cast<std::size_t>(++p)] * total;
+    part[static_cast<std::size_t>(B)] = p;
+  }
   return part;
 }
 
-std::vector<int> scotch(const std::vector<int>& offsets, const std::vector<int>& neighbours, int parts) {
+std::vector<int> scotch(const std::vector<int>& offsets, const std::vector<int>& neighbours,
+                        const std::vector<double>& shares) {
   const int nodes = static_cast<int>(offsets.size()) - 1;
+  const int parts = static_cast<int>(shares.size());
   std::vector<int> part(static_cast<std::size_t>(nodes), 0);
   petsc::ensure_initialized();
   {
@@ -53,6 +59,12 @@ std::vector<int> scotch(const std::vector<int>& offsets, const std::vector<int>&
     check(MatPartitioningSetAdjacency(partitioning, graph), "MatPartitioningSetAdjacency");
     check(MatPartitioningSetNParts(partitioning, parts), "MatPartitioningSetNParts");
     check(MatPartitioningSetVertexWeights(partitioning, weights), "MatPartitioningSetVertexWeights");
+    if (std::any_of(shares.begin(), shares.end(), [&](double s) { return s != shares[0]; })) {
+      PetscReal* targets = nullptr;  // PETSc-allocated, owned by the partitioning
+      check(PetscMalloc1(parts, &targets), "PetscMalloc1");
+      std::copy(shares.begin(), shares.end(), targets);
+      check(MatPartitioningSetPartitionWeights(partitioning, targets), "MatPartitioningSetPartitionWeights");
+    }
     check(MatPartitioningSetType(partitioning, MATPARTITIONINGPTSCOTCH), "MatPartitioningSetType(ptscotch)");
     // Scotch seeds its random choices from the clock unless told, and its
     // threads (Scotch 7) take them in any order: one thread and the same
@@ -85,12 +97,18 @@ long edge_cut(const std::vector<int>& offsets, const std::vector<int>& neighbour
 }
 
 GraphPartition partition_graph(const std::vector<int>& offsets, const std::vector<int>& neighbours, int parts) {
+  return partition_graph(offsets, neighbours,
+                         std::vector<double>(static_cast<std::size_t>(std::max(parts, 1)), 1.0 / std::max(parts, 1)));
+}
+
+GraphPartition partition_graph(const std::vector<int>& offsets, const std::vector<int>& neighbours,
+                               const std::vector<double>& shares) {
   GraphPartition best;
   const int nodes = static_cast<int>(offsets.size()) - 1;
-  if (parts > 1 && nodes > 0 && ranks::root()) {
-    best.part = contiguous(offsets, parts);
+  if (shares.size() > 1 && nodes > 0 && ranks::root()) {
+    best.part = contiguous(offsets, shares);
     best.cut = edge_cut(offsets, neighbours, best.part);
-    std::vector<int> other = scotch(offsets, neighbours, parts);
+    std::vector<int> other = scotch(offsets, neighbours, shares);
     const long cut = edge_cut(offsets, neighbours, other);
     if (cut < best.cut) {
       best.part = std::move(other);

@@ -4,9 +4,8 @@
 /// them: PT-Scotch through PETSc's MatPartitioning (Debian's PETSc has no
 /// ParMETIS), or contiguous ranges of the nodes' order, whichever cuts
 /// fewer edges; computed on rank 0 and sent to all. A run's ranks own
-/// contiguous ranges of the model's numbering (model::Model::rank_nodes);
-/// this measures what a numbering by graph parts would save
-/// (bench/conserve_partition, bench/results/scaling_model.md).
+/// contiguous ranges of the model's numbering (model::Model::rank_nodes),
+/// which numbers a body's nodes part by part (simulation/rank_numbering.hpp).
 #include <vector>
 
 namespace conserve::solver {
@@ -20,6 +19,11 @@ struct GraphPartition {
 /// The parts of the graph's nodes (node B's neighbours, itself included,
 /// are neighbours[offsets[B] .. offsets[B+1])). Collective.
 GraphPartition partition_graph(const std::vector<int>& offsets, const std::vector<int>& neighbours, int parts);
+
+/// The same with part p holding about shares[p] of the work (the shares
+/// sum to 1, each > 0). Collective.
+GraphPartition partition_graph(const std::vector<int>& offsets, const std::vector<int>& neighbours,
+                               const std::vector<double>& shares);
 
 /// The edges of the graph between different parts.
 long edge_cut(const std::vector<int>& offsets, const std::vector<int>& neighbours, const std::vector<int>& part);

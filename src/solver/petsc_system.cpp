@@ -32,15 +32,14 @@ namespace {
 using BlockPair = std::pair<PetscInt, PetscInt>;
 
 /// Sends each rank its counts[r] items of `send` (in rank order) and
-/// returns what the ranks sent here, in rank order, with their counts.
+/// returns what the ranks sent here, received_counts[r] from rank r, in
+/// rank order.
 template <class T>
-std::vector<T> exchange(const std::vector<T>& send, const std::vector<int>& counts, MPI_Datatype type,
-                        std::vector<int>& received_counts) {
-  const int parts = ranks::size();
-  received_counts.assign(static_cast<std::size_t>(parts), 0);
-  MPI_Alltoall(counts.data(), 1, MPI_INT, received_counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);
-  std::vector<int> send_at(static_cast<std::size_t>(parts), 0), receive_at(static_cast<std::size_t>(parts), 0);
-  for (int r = 1; r < parts; ++r) {
+std::vector<T> exchange(const std::vector<T>& send, const std::vector<int>& counts,
+                        const std::vector<int>& received_counts, MPI_Datatype type) {
+  const auto parts = counts.size();
+  std::vector<int> send_at(parts, 0), receive_at(parts, 0);
+  for (std::size_t r = 1; r < parts; ++r) {
     send_at[r] = send_at[r - 1] + counts[r - 1];
     receive_at[r] = receive_at[r - 1] + received_counts[r - 1];
   }
@@ -49,6 +48,52 @@ std::vector<T> exchange(const std::vector<T>& send, const std::vector<int>& coun
                 receive_at.data(), type, PETSC_COMM_WORLD);
   return received;
 }
+
+/// What each rank sends here, for the counts this rank sends each.
+std::vector<int> received_counts(const std::vector<int>& counts) {
+  std::vector<int> received(counts.size(), 0);
+  MPI_Alltoall(counts.data(), 1, MPI_INT, received.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  return received;
+}
+
+/// PETSc's diagonal and off-diagonal blocks of a distributed matrix (BAIJ
+/// if `blocked`, else AIJ), and the global (block) column of each of the
+/// off-diagonal block's.
+struct LocalBlocks {
+  ::Mat diagonal = nullptr, off = nullptr;
+  const PetscInt* columns = nullptr;
+  LocalBlocks(::Mat A, bool blocked) {
+    if (blocked)
+      check(MatMPIBAIJGetSeqBAIJ(A, &diagonal, &off, &columns), "MatMPIBAIJGetSeqBAIJ");
+    else
+      check(MatMPIAIJGetSeqAIJ(A, &diagonal, &off, &columns), "MatMPIAIJGetSeqAIJ");
+  }
+};
+
+/// A sequential block's values, for writing (BAIJ or AIJ).
+class Values {
+ public:
+  Values(::Mat block, bool blocked) : block_(block), blocked_(blocked) {
+    if (blocked_)
+      check(MatSeqBAIJGetArray(block_, &values_), "MatSeqBAIJGetArray");
+    else
+      check(MatSeqAIJGetArray(block_, &values_), "MatSeqAIJGetArray");
+  }
+  ~Values() {
+    if (blocked_)
+      MatSeqBAIJRestoreArray(block_, &values_);
+    else
+      MatSeqAIJRestoreArray(block_, &values_);
+  }
+  Values(const Values&) = delete;
+  Values& operator=(const Values&) = delete;
+  [[nodiscard]] PetscScalar* data() const { return values_; }
+
+ private:
+  ::Mat block_;
+  bool blocked_;
+  PetscScalar* values_ = nullptr;
+};
 
 }  // namespace
 
@@ -110,51 +155,47 @@ void DistributedSystem::make(const SparseMatrix& M, int block, bool blocked, con
     for (const auto& [I, J] : list) pairs_out.push_back(I), pairs_out.push_back(J);
     pair_counts[r] = static_cast<int>(2 * list.size());
   }
-  std::vector<int> pairs_in_counts;
-  const std::vector<PetscInt> pairs_in = exchange(pairs_out, pair_counts, MPIU_INT, pairs_in_counts);
+  const std::vector<int> pairs_in_counts = received_counts(pair_counts);
+  const std::vector<PetscInt> pairs_in = exchange(pairs_out, pair_counts, pairs_in_counts, MPIU_INT);
   std::vector<BlockPair> incoming;
   for (std::size_t q = 0; q < pairs_in.size(); q += 2) incoming.emplace_back(pairs_in[q] - first_ / b, pairs_in[q + 1]);
   std::vector<BlockPair> extra = incoming;
   std::sort(extra.begin(), extra.end());
   extra.erase(std::unique(extra.begin(), extra.end()), extra.end());
   // Each row's columns: its own and those sent to it, merged.
-  row_start_.assign(static_cast<std::size_t>(rows) + 1, 0);
-  column_.clear();
-  column_.reserve(own.size() + extra.size());
+  std::vector<PetscInt> row_start(static_cast<std::size_t>(rows) + 1, 0), column;
+  column.reserve(own.size() + extra.size());
   auto e = extra.begin();
   std::vector<PetscInt> sent;
   for (PetscInt I = 0; I < rows; ++I) {
     sent.clear();
     for (; e != extra.end() && e->first == I; ++e) sent.push_back(e->second);
     std::set_union(own.begin() + own_start[I], own.begin() + own_start[I + 1], sent.begin(), sent.end(),
-                   std::back_inserter(column_));
-    row_start_[I + 1] = static_cast<PetscInt>(column_.size());
+                   std::back_inserter(column));
+    row_start[I + 1] = static_cast<PetscInt>(column.size());
   }
   const PetscInt local = end_ - first_;
   check(MatCreate(PETSC_COMM_WORLD, &A_), "MatCreate");
   check(MatSetSizes(A_, local, local, n, n), "MatSetSizes");
   if (blocked) {
     check(MatSetType(A_, MATMPIBAIJ), "MatSetType");
-    check(MatMPIBAIJSetPreallocationCSR(A_, b, row_start_.data(), column_.data(), nullptr),
+    check(MatMPIBAIJSetPreallocationCSR(A_, b, row_start.data(), column.data(), nullptr),
           "MatMPIBAIJSetPreallocationCSR");
   } else {
     check(MatSetType(A_, MATMPIAIJ), "MatSetType");
     if (block > 1 && static_cast<int>(rank_nodes.size()) == parts + 1 &&
         static_cast<std::int64_t>(rank_nodes.back()) * block == n)  // all rows nodal
       check(MatSetBlockSize(A_, block), "MatSetBlockSize");
-    check(MatMPIAIJSetPreallocationCSR(A_, row_start_.data(), column_.data(), nullptr), "MatMPIAIJSetPreallocationCSR");
+    check(MatMPIAIJSetPreallocationCSR(A_, row_start.data(), column.data(), nullptr), "MatMPIAIJSetPreallocationCSR");
   }
   check(MatSetOption(A_, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE), "MatSetOption");
   check(MatSetOption(A_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
   // Where each value goes: into the values of PETSc's diagonal block (the
   // columns of this rank's rows) or, after them, of its off-diagonal block
   // (the others' columns, numbered by `garray`), each block column-major.
-  ::Mat diagonal = nullptr, off = nullptr;
-  const PetscInt* garray = nullptr;
-  if (blocked)
-    check(MatMPIBAIJGetSeqBAIJ(A_, &diagonal, &off, &garray), "MatMPIBAIJGetSeqBAIJ");
-  else
-    check(MatMPIAIJGetSeqAIJ(A_, &diagonal, &off, &garray), "MatMPIAIJGetSeqAIJ");
+  const LocalBlocks blocks(A_, blocked);
+  const ::Mat diagonal = blocks.diagonal, off = blocks.off;
+  const PetscInt* garray = blocks.columns;
   PetscInt rows_d = 0, rows_o = 0, off_columns = 0;
   const PetscInt *ia = nullptr, *ja = nullptr, *ib = nullptr, *jb = nullptr;
   PetscBool done = PETSC_FALSE;
@@ -196,61 +237,39 @@ void DistributedSystem::make(const SparseMatrix& M, int block, bool blocked, con
   send_counts_.assign(static_cast<std::size_t>(parts), 0);
   for (int r = 0; r < parts; ++r) send_counts_[r] = static_cast<int>(send_at[r + 1] - send_at[r]);
   receive_counts_.assign(static_cast<std::size_t>(parts), 0);
-  for (int r = 0; r < parts; ++r) receive_counts_[r] = pairs_in_counts[r] / 2 * bb;
+  for (int r = 0; r < parts; ++r) receive_counts_[r] = pairs_in_counts[r] / 2 * bb;  // two indices a block, bb values
   received_to_.clear();
   received_to_.reserve(incoming.size() * bb);
   for (const auto& [I, J] : incoming)
     for (int ii = 0; ii < b; ++ii)
       for (int jj = 0; jj < b; ++jj) received_to_.push_back(position(I, J, ii, jj));
-  received_.assign(received_to_.size(), 0.0);
   check(MatRestoreRowIJ(diagonal, 0, PETSC_FALSE, by_blocks, &rows_d, &ia, &ja, &done), "MatRestoreRowIJ");
   check(MatRestoreRowIJ(off, 0, PETSC_FALSE, by_blocks, &rows_o, &ib, &jb, &done), "MatRestoreRowIJ");
-  row_start_ = {};
-  column_ = {};
   check(MatCreateVecs(A_, &x_, &b_), "MatCreateVecs");
   check(VecScatterCreateToAll(x_, &gather_, &all_), "VecScatterCreateToAll");
 }
 
 void DistributedSystem::copy_values(const SparseMatrix& M) {
-  ::Mat diagonal = nullptr, off = nullptr;
-  const PetscInt* garray = nullptr;
   const bool blocked = block_ > 1;
-  if (blocked)
-    check(MatMPIBAIJGetSeqBAIJ(A_, &diagonal, &off, &garray), "MatMPIBAIJGetSeqBAIJ");
-  else
-    check(MatMPIAIJGetSeqAIJ(A_, &diagonal, &off, &garray), "MatMPIAIJGetSeqAIJ");
-  PetscScalar *d = nullptr, *o = nullptr;
-  if (blocked) {
-    check(MatSeqBAIJGetArray(diagonal, &d), "MatSeqBAIJGetArray");
-    check(MatSeqBAIJGetArray(off, &o), "MatSeqBAIJGetArray");
-  } else {
-    check(MatSeqAIJGetArray(diagonal, &d), "MatSeqAIJGetArray");
-    check(MatSeqAIJGetArray(off, &o), "MatSeqAIJGetArray");
-  }
-  std::fill(d, d + diagonal_values_, 0.0);
-  std::fill(o, o + off_values_, 0.0);
-  const auto at = [&](PetscInt t) -> PetscScalar& { return t < diagonal_values_ ? d[t] : o[t - diagonal_values_]; };
-  const double* v = M.valuePtr();
-  const auto size = static_cast<std::ptrdiff_t>(to_.size());
-  for (std::ptrdiff_t k = 0; k < size; ++k) {
-    const PetscInt t = to_[static_cast<std::size_t>(k)];
-    if (t >= 0)
-      at(t) = v[k];
-    else
-      send_[static_cast<std::size_t>(-1 - t)] = v[k];
-  }
+  const LocalBlocks blocks(A_, blocked);
   {
-    std::vector<int> counts;
-    received_ = exchange(send_, send_counts_, MPI_DOUBLE, counts);
-  }
-  // The others' terms after this rank's own, in rank order: the same bits run after run.
-  for (std::size_t q = 0; q < received_.size(); ++q) at(received_to_[q]) += received_[q];
-  if (blocked) {
-    check(MatSeqBAIJRestoreArray(diagonal, &d), "MatSeqBAIJRestoreArray");
-    check(MatSeqBAIJRestoreArray(off, &o), "MatSeqBAIJRestoreArray");
-  } else {
-    check(MatSeqAIJRestoreArray(diagonal, &d), "MatSeqAIJRestoreArray");
-    check(MatSeqAIJRestoreArray(off, &o), "MatSeqAIJRestoreArray");
+    const Values diagonal(blocks.diagonal, blocked), off(blocks.off, blocked);
+    PetscScalar *d = diagonal.data(), *o = off.data();
+    std::fill(d, d + diagonal_values_, 0.0);
+    std::fill(o, o + off_values_, 0.0);
+    const auto at = [&](PetscInt t) -> PetscScalar& { return t < diagonal_values_ ? d[t] : o[t - diagonal_values_]; };
+    const double* v = M.valuePtr();
+    const auto size = static_cast<std::ptrdiff_t>(to_.size());
+    for (std::ptrdiff_t k = 0; k < size; ++k) {
+      const PetscInt t = to_[static_cast<std::size_t>(k)];
+      if (t >= 0)
+        at(t) = v[k];
+      else
+        send_[static_cast<std::size_t>(-1 - t)] = v[k];
+    }
+    // The others' terms after this rank's own, in rank order: the same bits run after run.
+    const std::vector<PetscScalar> received = exchange(send_, send_counts_, receive_counts_, MPI_DOUBLE);
+    for (std::size_t q = 0; q < received.size(); ++q) at(received_to_[q]) += received[q];
   }
   // Assembly moves the matrix's state on, so the preconditioner rebuilds.
   check(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");

@@ -54,8 +54,6 @@ class DistributedSystem {
   [[nodiscard]] PetscInt end_row() const { return end_; }
   /// Every rank's first row, and the number of rows last.
   [[nodiscard]] const std::vector<std::int64_t>& row_ranges() const { return ranges_; }
-  /// Entries this rank sent to other ranks' rows at each copy_values().
-  [[nodiscard]] std::int64_t sent_entries() const { return static_cast<std::int64_t>(send_.size()); }
 
  private:
   void destroy();
@@ -63,15 +61,14 @@ class DistributedSystem {
   PetscInt first_ = 0, end_ = 0;
   std::vector<std::int64_t> ranges_;
   int block_ = 1;                             ///< rows per stored block (1: MPIAIJ)
-  std::vector<PetscInt> row_start_, column_;  ///< while made: this rank's (block) rows, global (block) columns
   /// CSC position → its value's position in PETSc's diagonal block, or
   /// diagonal_values_ + its position in the off-diagonal block (≥ 0), or
   /// −1 − its position in send_.
   std::vector<PetscInt> to_;
   PetscInt diagonal_values_ = 0, off_values_ = 0;  ///< the two blocks' values
-  std::vector<PetscScalar> send_, received_;  ///< the values for other ranks' rows, by rank; and from them
-  std::vector<int> send_counts_, receive_counts_;  ///< per rank, in values
-  std::vector<PetscInt> received_to_;         ///< per received value: its position in values_
+  std::vector<PetscScalar> send_;                  ///< the values for other ranks' rows, by rank
+  std::vector<int> send_counts_, receive_counts_;  ///< per rank, the values sent to it and received from it
+  std::vector<PetscInt> received_to_;              ///< per received value: its position, as to_'s
   ::Mat A_ = nullptr;
   ::Vec b_ = nullptr, x_ = nullptr, all_ = nullptr;
   VecScatter gather_ = nullptr;

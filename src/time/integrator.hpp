@@ -62,6 +62,12 @@ class Integrator {
     solver_->reset();
   }
 
+  /// Modified Newton (solver::NewtonSettings::modified_newton) for the
+  /// steps that follow: simulation::Stepper tries a step that failed with
+  /// a kept tangent again with fresh ones before it halves Δt.
+  void set_modified_newton(bool on) { newton_.modified_newton = on; }
+  [[nodiscard]] bool modified_newton() const { return newton_.modified_newton; }
+
   /// What the next steps take from the earlier ones beyond the state: the
   /// tangent kept for reuse (modified Newton) and what the solver derived
   /// from earlier matrices, as the states and iterates those matrices were

@@ -246,7 +246,7 @@ void check_rank_share(int ranks) {
     ranked.rank_nodes = rank_nodes;
     ranked.rank = rank;
     Assembler<D> part(ranked, false);
-    part.share({rank, ranks, gather, all});
+    part.share({gather, all});
     const auto [first, end] = part.rank_nodes();
     EXPECT_LT(first, end) << "rank " << rank;
     last = assemble(part, u_n, u_np1);

@@ -160,7 +160,9 @@ class Ranks(unittest.TestCase):
         forwards SIGUSR1, if `to_launcher`) once `after` steps are written: the
         run ends after the step under way with a checkpoint and exit code 5;
         continuing from it on the same ranks gives the uninterrupted run's
-        history byte for byte, and on one process the same trajectory."""
+        history byte for byte; on one process, the same trajectory if the
+        ranks kept the meshes' numbering ([solver] partition = "ranges"),
+        else a refusal in one line naming both rank counts."""
         run(RANKS, scenario, self.dir / "whole", *args)
         out = self.dir / "stopped"
         p = subprocess.Popen(command(RANKS, "run", scenario, "-o", out, "-q", *args), env=ENV,
@@ -186,12 +188,25 @@ class Ranks(unittest.TestCase):
         shutil.copytree(out, alone)
         run(RANKS, scenario, out, *args, "--restart", checkpoints[0])
         self.assertEqual((self.dir / "whole" / "history.csv").read_bytes(), (out / "history.csv").read_bytes())
-        run(0, scenario, alone, *args, "--restart", alone / "checkpoints" / checkpoints[0].name)
-        self.assert_same_trajectory(self.dir / "whole", alone)
+        ranges = "solver.partition=ranges" in args
+        p = run(0, scenario, alone, *args, "--restart", alone / "checkpoints" / checkpoints[0].name, check=ranges)
+        if ranges or RANKS == 1:
+            self.assert_same_trajectory(self.dir / "whole", alone)
+        else:
+            self.assertEqual(p.returncode, 1, p.stderr)
+            lines = [l for l in p.stderr.splitlines() if l.startswith("conserve:")]
+            self.assertEqual(len(lines), 1, p.stderr)
+            self.assertIn(f"written on {RANKS} ranks", lines[0])
+            self.assertIn("this run has 1 rank", lines[0])
 
     def test_sigusr1_to_the_launcher_checkpoint_and_restart(self):
+        # A vibrating ball (Newton at work every step) for 2,000 steps: the
+        # signal must arrive long before the run's end (300 steps of free
+        # flight alone took 0.05 s).
         self.stop_and_restart(FLIGHT, ("--set", "body.ball.mesh.size=0.12", "--set", "output.vtu_every=0", "--set",
-                                       "output.checkpoint_every=0", "--set", "time.end=0.3"), signal.SIGUSR1, True)
+                                       "output.checkpoint_every=0", "--set", "time.end=2.0", "--set",
+                                       "body.ball.initial_deformation=[[1.01,0.0,0.0],[0.0,0.995,0.0],[0.0,0.0,0.995]]",
+                                       "--set", "solver.partition=ranges"), signal.SIGUSR1, True)
 
     def test_sigterm_to_the_ranks_in_contact_checkpoint_and_restart(self):
         """Stopped while the ball is in contact with the plane (from about step 32)."""
@@ -208,6 +223,23 @@ class Ranks(unittest.TestCase):
         lines = [l for l in p.stderr.splitlines() if l.startswith("conserve:")]
         self.assertEqual(len(lines), 1, p.stderr)
         self.assertFalse((self.dir / "out").exists())
+
+    def test_graph_parts_hold_fewer_ghost_nodes(self):
+        """The ball split over the ranks: numbered by graph parts (the
+        default), its largest rank's ghost nodes are fewer than with
+        contiguous ranges of its band, at the same balance of nodes."""
+        if RANKS < 2:
+            self.skipTest("one rank has no ghost nodes")
+        runs = {}
+        for partition in ("graph", "ranges"):
+            run(RANKS, BALL, self.dir / partition, "--steps", 1, "--set", "output.vtu_every=0", "--set",
+                f"solver.partition={partition}")
+            runs[partition] = summary(self.dir / partition)
+        ghosts = {p: max(s["rank_ghost_nodes"]) for p, s in runs.items()}
+        print(f"[ measured ] largest rank's ghost nodes on {RANKS} ranks: {ghosts}")
+        self.assertLess(ghosts["graph"], ghosts["ranges"])
+        for s in runs.values():
+            self.assertEqual(len(s["rank_ghost_nodes"]), RANKS)
 
     def test_pvtu_in_vtk_and_meshio(self):
         if RANKS < 2:

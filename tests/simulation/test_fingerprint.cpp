@@ -44,5 +44,21 @@ TEST(Fingerprint, EntriesMissingOnEitherSide) {
   EXPECT_EQ(first_difference(fewer, kWritten), "[time] step is not in the checkpoint");
 }
 
+TEST(Fingerprint, ANumberingByOtherRanksGraphPartsNamesBothCounts) {
+  // Written on 2 ranks whose graph parts numbered the nodes; read here by
+  // one process (solver::ranks::size() == 1), which numbers as the meshes.
+  Fingerprint by_parts = kWritten;
+  by_parts.insert(by_parts.begin(), {"node numbering", 1, "2"});
+  const std::string refused = first_difference(by_parts, kWritten);
+  EXPECT_NE(refused.find("written on 2 ranks"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("this run has 1 rank"), std::string::npos) << refused;
+  EXPECT_NE(first_difference(kWritten, by_parts).find("partition = \"ranges\""), std::string::npos);
+  Fingerprint three = by_parts;
+  three.front().value = "3";
+  three.front().hash = 2;
+  EXPECT_NE(first_difference(by_parts, three).find("restart on 2 ranks"), std::string::npos);
+  EXPECT_EQ(first_difference(by_parts, by_parts), "");
+}
+
 }  // namespace
 }  // namespace conserve::simulation
