@@ -70,7 +70,9 @@ class Stepper {
   [[nodiscard]] const assembly::ThreadGovernor& threads() const { return threads_; }
 
   /// One converged step from `state`: retried from the same state (and the
-  /// same active set) with Δt halved after each failure; Δt doubles back
+  /// same active set) after a failure, first at the same Δt with fresh
+  /// tangents if it kept one (modified Newton), then with Δt halved after
+  /// each failure; Δt doubles back
   /// towards the scenario's after StepControl::kGrowAfter good steps.
   /// With impacts located, a step that meets an impact is retried ending
   /// where the integrator says (at most kMaxSplits times); the steps
