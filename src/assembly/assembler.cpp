@@ -1,6 +1,8 @@
 #include "assembly/assembler.hpp"
 
 #include <algorithm>
+#include <array>
+#include <type_traits>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -29,19 +31,91 @@ std::vector<double> per_cell(int num_cells, const Value& value) {
   return v;
 }
 
+/// What the loops need of a cell of order P: its kernels (fem/element.hpp)
+/// and the number of point starts (fem::CellStart) it keeps.
+template <int D, int P>
+struct Kind;
+
+template <int D>
+struct Kind<D, 1> {
+  static constexpr int kNodes = D + 1, kPoints = 1;
+  using Nodes = fem::NodeMatrix<D>;
+  using Matrix = fem::ElementMatrix<D>;
+  static const fem::SimplexGeometry<D>& geometry(const model::Model<D>& m, int c) { return m.geometry[c]; }
+  static void start(const fem::SimplexGeometry<D>& g, const Nodes& x, fem::CellStart<D>* s) {
+    *s = fem::cell_start<D>(g, x);
+  }
+  static Nodes force(const fem::SimplexGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
+                     const Nodes& x, fem::StressScheme scheme) {
+    return fem::internal_force<D>(g, law, *s, x, scheme);
+  }
+  static void force_tangent(const fem::SimplexGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
+                            const Nodes& x, fem::StressScheme scheme, Nodes& f, Matrix& K) {
+    fem::internal_force_tangent<D>(g, law, *s, x, scheme, f, K);
+  }
+  static double min_det(const fem::CellStart<D>* s) { return s->F.determinant(); }
+};
+
+template <int D>
+struct Kind<D, 2> {
+  static constexpr int kNodes = fem::Quadratic<D>::kNodes, kPoints = fem::Quadratic<D>::kPoints;
+  using Nodes = fem::QuadraticNodes<D>;
+  using Matrix = fem::QuadraticMatrix<D>;
+  static const fem::QuadraticGeometry<D>& geometry(const model::Model<D>& m, int c) { return m.quadratic[c]; }
+  static void start(const fem::QuadraticGeometry<D>& g, const Nodes& x, fem::CellStart<D>* s) {
+    fem::cell_start<D>(g, x, s);
+  }
+  static Nodes force(const fem::QuadraticGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
+                     const Nodes& x, fem::StressScheme scheme) {
+    return fem::internal_force<D>(g, law, s, x, scheme);
+  }
+  static void force_tangent(const fem::QuadraticGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
+                            const Nodes& x, fem::StressScheme scheme, Nodes& f, Matrix& K) {
+    fem::internal_force_tangent<D>(g, law, s, x, scheme, f, K);
+  }
+  static double min_det(const fem::CellStart<D>* s) {
+    double lowest = s[0].F.determinant();
+    for (int q = 1; q < kPoints; ++q) lowest = std::min(lowest, s[q].F.determinant());
+    return lowest;
+  }
+};
+
 }  // namespace
+
+template <int D>
+template <class Body>
+void Assembler<D>::by_order(const Body& body) const {
+  if (model_.order == 1)
+    body(std::integral_constant<int, 1>{});
+  else
+    body(std::integral_constant<int, 2>{});
+}
+
+template <int D>
+int Assembler<D>::points_per_cell() const {
+  return model_.order == 1 ? 1 : fem::Quadratic<D>::kPoints;
+}
 
 template <int D>
 Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
     : model_(model), pattern_(model.num_nodes(), model.cells, {}, model.first_owned(), model.end_owned()) {
   std::vector<Eigen::Triplet<double>> node_entries;
-  node_entries.reserve(static_cast<std::size_t>(model.num_cells()) * (D + 1) * (D + 1));
+  const auto nodes = static_cast<int>(model.cells.rows());
+  node_entries.reserve(static_cast<std::size_t>(model.num_cells()) * nodes * nodes);
   for (int c = 0; c < model.num_cells(); ++c) {
-    const double density = model.bodies[model.cell_body[c]].density;
-    const auto Me = fem::element_mass<D>(density, model.geometry[c].volume, lumped_mass);
-    for (int b = 0; b <= D; ++b)
-      for (int a = 0; a <= D; ++a)
-        if (Me(a, b) != 0.0) node_entries.emplace_back(model.cells(a, c), model.cells(b, c), Me(a, b));
+    const model::Body& body = model.bodies[model.cell_body[c]];
+    const auto add = [&](const auto& Me) {
+      for (int b = 0; b < nodes; ++b)
+        for (int a = 0; a < nodes; ++a)
+          if (Me(a, b) != 0.0) node_entries.emplace_back(model.cells(a, c), model.cells(b, c), Me(a, b));
+    };
+    if (model.order == 1) {
+      add(fem::element_mass<D>(body.density, model.geometry[c].volume, lumped_mass));
+    } else {
+      fem::QuadraticNodes<D> X;
+      for (int a = 0; a < nodes; ++a) X.col(a) = model.X.col(model.cells(a, c));
+      add(fem::quadratic_mass<D>(X, body.density * body.thickness, lumped_mass));
+    }
   }
   node_mass_.resize(model.num_nodes(), model.num_nodes());
   node_mass_.setFromTriplets(node_entries.begin(), node_entries.end());  // sums in cell order
@@ -52,14 +126,19 @@ Assembler<D>::Assembler(const model::Model<D>& model, bool lumped_mass)
   stiffness_scale_.setZero(model.num_dofs());
   displacement_stiffness_.setZero(model.num_dofs());
   for (int c = 0; c < model.num_cells(); ++c) {
-    const auto& geometry = model.geometry[c];
     const material::Lame lame = law(c).small_strain();  // the law's stiffness at small strain
     const double modulus = lame.lambda + 2.0 * lame.mu;
-    for (int a = 0; a <= D; ++a) {
-      const double grad = geometry.grad.col(a).norm();
-      stiffness_scale_.segment<D>(model.cells(a, c) * D).array() += geometry.volume * modulus * grad;
-      displacement_stiffness_.segment<D>(model.cells(a, c) * D).array() += geometry.volume * modulus * grad * grad;
-    }
+    const auto add = [&](const auto& point) {
+      for (int a = 0; a < nodes; ++a) {
+        const double grad = point.grad.col(a).norm();
+        stiffness_scale_.segment<D>(model.cells(a, c) * D).array() += point.volume * modulus * grad;
+        displacement_stiffness_.segment<D>(model.cells(a, c) * D).array() += point.volume * modulus * grad * grad;
+      }
+    };
+    if (model.order == 1)
+      add(model.geometry[c]);
+    else
+      for (int q = 0; q < fem::Quadratic<D>::kPoints; ++q) add(model.quadratic[c].at(q));
   }
 }
 
@@ -80,10 +159,16 @@ Eigen::VectorXd Assembler<D>::mass_times(const Eigen::VectorXd& x) const {
 
 template <int D>
 fem::NodeMatrix<D> Assembler<D>::cell_positions(int cell, const Eigen::VectorXd& u) const {
+  return positions<D + 1>(cell, u);
+}
+
+template <int D>
+template <int N>
+Eigen::Matrix<double, D, N> Assembler<D>::positions(int cell, const Eigen::VectorXd& u) const {
   const int first = model_.cells(0, cell);
-  fem::NodeMatrix<D> x;
+  Eigen::Matrix<double, D, N> x;
   x.col(0).setZero();
-  for (int a = 1; a <= D; ++a) {
+  for (int a = 1; a < N; ++a) {
     const int node = model_.cells(a, cell);
     x.col(a) = (model_.X.col(node) - model_.X.col(first)) + (u.segment<D>(node * D) - u.segment<D>(first * D));
   }
@@ -92,11 +177,15 @@ fem::NodeMatrix<D> Assembler<D>::cell_positions(int cell, const Eigen::VectorXd&
 
 template <int D>
 typename Assembler<D>::StepStart Assembler<D>::step_start(const Eigen::VectorXd& u_n) const {
-  StepStart start(static_cast<std::size_t>(pattern_.kept_cells()));
+  const int Q = points_per_cell();
+  StepStart start(static_cast<std::size_t>(pattern_.kept_cells()) * static_cast<std::size_t>(Q));
+  by_order([&](auto order) {
+    using K = Kind<D, decltype(order)::value>;
 #pragma omp parallel for schedule(static) if (model_.num_cells() >= kMinParallelCells)
-  for (int c = 0; c < model_.num_cells(); ++c)
-    if (const int l = pattern_.local_cell(c); l >= 0)
-      start[static_cast<std::size_t>(l)] = fem::cell_start<D>(model_.geometry[c], cell_positions(c, u_n));
+    for (int c = 0; c < model_.num_cells(); ++c)
+      if (const int l = pattern_.local_cell(c); l >= 0)
+        K::start(K::geometry(model_, c), positions<K::kNodes>(c, u_n), &start[static_cast<std::size_t>(l) * Q]);
+  });
   return start;
 }
 
@@ -164,6 +253,9 @@ template <int D>
 void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme,
                                       Eigen::VectorXd& f, Eigen::VectorXd* magnitude) const {
   const NodePartition& parts = rank_partition();
+  const int Q = points_per_cell();
+  by_order([&](auto order) {
+  using K = Kind<D, decltype(order)::value>;
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
     Eigen::VectorXd& local = scratch_[p].force;
@@ -172,10 +264,10 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
     if (magnitude) local_magnitude.setZero(size);
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
-      const fem::NodeMatrix<D> fe = fem::internal_force<D>(
-          model_.geometry[c], law(c), start[static_cast<std::size_t>(pattern_.local_cell(c))], cell_positions(c, u_np1),
-          scheme);
-      for (int a = 0; a <= D; ++a) {
+      const typename K::Nodes fe =
+          K::force(K::geometry(model_, c), law(c), &start[static_cast<std::size_t>(pattern_.local_cell(c)) * Q],
+                   positions<K::kNodes>(c, u_np1), scheme);
+      for (int a = 0; a < K::kNodes; ++a) {
         if (!(parts.visit_owned[v] >> a & 1u)) continue;
         const int at = (model_.cells(a, c) - first) * D;
         local.segment<D>(at) += fe.col(a);
@@ -184,6 +276,7 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
     }
     f.segment(first * D, size) += local;
     if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
+  });
   });
   gather(&f, magnitude);
 }
@@ -221,30 +314,35 @@ void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_
   double* values = K.valuePtr();
   const NodePartition& parts = rank_partition();
   if (!f) magnitude = nullptr;
+  const int Q = points_per_cell();
+  by_order([&](auto order) {
+  using Cell = Kind<D, decltype(order)::value>;
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
     Eigen::VectorXd& local = scratch_[p].force;
     Eigen::VectorXd& local_magnitude = scratch_[p].magnitude;
     if (f) local.setZero(size);
     if (magnitude) local_magnitude.setZero(size);
-    fem::NodeMatrix<D> fe;
-    fem::ElementMatrix<D> Ke;
+    typename Cell::Nodes fe;
+    typename Cell::Matrix Ke;
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
-      const std::uint8_t owned = parts.visit_owned[v];
-      fem::internal_force_tangent<D>(model_.geometry[c], law(c), start[static_cast<std::size_t>(pattern_.local_cell(c))],
-                                     cell_positions(c, u_np1), scheme, fe, Ke);
+      const CornerMask owned = parts.visit_owned[v];
+      Cell::force_tangent(Cell::geometry(model_, c), law(c),
+                          &start[static_cast<std::size_t>(pattern_.local_cell(c)) * Q],
+                          positions<Cell::kNodes>(c, u_np1), scheme, fe, Ke);
       if (f)
-        for (int a = 0; a <= D; ++a) {
+        for (int a = 0; a < Cell::kNodes; ++a) {
           if (!(owned >> a & 1u)) continue;
           const int at = (model_.cells(a, c) - first) * D;
           local.segment<D>(at) += fe.col(a);
           if (magnitude) local_magnitude.segment<D>(at) += fe.col(a).cwiseAbs();
         }
-      pattern_.add_cell_matrix(c, Ke, values, owned);  // the owned nodes' block rows
+      pattern_.template add_cell_matrix<Cell::kNodes>(c, Ke, values, owned);  // the owned nodes' block rows
     }
     if (f) f->segment(first * D, size) += local;
     if (magnitude) magnitude->segment(first * D, size) += local_magnitude;
+  });
   });
   gather(f, magnitude);
 }
@@ -261,24 +359,28 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
       std::memcmp(measured_u_.data(), u.data(), sizeof(double) * static_cast<std::size_t>(u.size())) == 0)
     return measures_;
   const int n = model_.num_cells();
-  auto cells = std::make_shared<StepStart>(static_cast<std::size_t>(pattern_.kept_cells()));
+  const int Q = points_per_cell();
+  auto cells = std::make_shared<StepStart>(static_cast<std::size_t>(pattern_.kept_cells()) * static_cast<std::size_t>(Q));
   std::vector<double> W(static_cast<std::size_t>(n), 0.0), det(static_cast<std::size_t>(n));
   Eigen::VectorXd f = Eigen::VectorXd::Zero(model_.num_dofs());
   const NodePartition& parts = rank_partition();
   const auto [rank_first, rank_end] = rank_nodes();
   const bool ranked = model_.num_ranks() > 1;
+  by_order([&](auto order) {
+  using K = Kind<D, decltype(order)::value>;
   for_each_part(parts, [&](int p) {
     const int first = parts.first_node[p], size = (parts.first_node[p + 1] - first) * D;
     Eigen::VectorXd& local = scratch_[p].force;
     local.setZero(size);
     for (int v = parts.visit_start[p]; v < parts.visit_start[p + 1]; ++v) {
       const int c = parts.visit_cell[v];
-      const std::uint8_t owned = parts.visit_owned[v];
-      const fem::SimplexGeometry<D>& g = model_.geometry[c];
-      const fem::NodeMatrix<D> x = cell_positions(c, u);
-      const fem::CellStart<D> start = fem::cell_start<D>(g, x);
-      const fem::NodeMatrix<D> fe = fem::internal_force<D>(g, law(c), start, x, fem::StressScheme::conserving);
-      for (int a = 0; a <= D; ++a)
+      const CornerMask owned = parts.visit_owned[v];
+      const auto& g = K::geometry(model_, c);
+      const typename K::Nodes x = positions<K::kNodes>(c, u);
+      std::array<fem::CellStart<D>, K::kPoints> start;
+      K::start(g, x, start.data());
+      const typename K::Nodes fe = K::force(g, law(c), start.data(), x, fem::StressScheme::conserving);
+      for (int a = 0; a < K::kNodes; ++a)
         if (owned >> a & 1u) local.segment<D>((model_.cells(a, c) - first) * D) += fe.col(a);
       // The cell's start: by the part that owns its lowest corner on this
       // rank; its own figures: by the part (on the rank) that owns its first.
@@ -286,12 +388,13 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
       if (ranked)
         while (model_.cells(lowest, c) < rank_first || model_.cells(lowest, c) >= rank_end) ++lowest;
       if (!(owned >> lowest & 1u)) continue;
-      (*cells)[static_cast<std::size_t>(pattern_.local_cell(c))] = start;
+      std::copy(start.begin(), start.end(), cells->begin() + static_cast<std::ptrdiff_t>(pattern_.local_cell(c)) * Q);
       if (lowest != 0) continue;
       W[static_cast<std::size_t>(c)] = fem::strain_energy<D>(g, law(c), x);
-      det[static_cast<std::size_t>(c)] = start.F.determinant();
+      det[static_cast<std::size_t>(c)] = K::min_det(start.data());
     }
     f.segment(first * D, size) += local;
+  });
   });
   gather(&f, nullptr);
   StateMeasures m;
@@ -319,6 +422,7 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
 template <int D>
 Orientation Assembler<D>::min_det_F(const Eigen::VectorXd& u) const {
   const std::vector<double> det = per_cell(model_.num_cells(), [&](int c) {
+    if (model_.order == 2) return fem::min_det_F<D>(model_.quadratic[c], positions<Kind<D, 2>::kNodes>(c, u));
     return fem::deformation_gradient<D>(cell_positions(c, u), model_.geometry[c]).determinant();
   });
   Orientation o{std::numeric_limits<double>::infinity(), -1};
@@ -330,6 +434,8 @@ Orientation Assembler<D>::min_det_F(const Eigen::VectorXd& u) const {
 template <int D>
 double Assembler<D>::strain_energy(const Eigen::VectorXd& u) const {
   const std::vector<double> W = per_cell(model_.num_cells(), [&](int c) {
+    if (model_.order == 2)
+      return fem::strain_energy<D>(model_.quadratic[c], law(c), positions<Kind<D, 2>::kNodes>(c, u));
     return fem::strain_energy<D>(model_.geometry[c], law(c), cell_positions(c, u));
   });
   double sum = 0.0;
@@ -339,5 +445,7 @@ double Assembler<D>::strain_energy(const Eigen::VectorXd& u) const {
 
 template class Assembler<2>;
 template class Assembler<3>;
+template Eigen::Matrix<double, 2, 6> Assembler<2>::positions<6>(int, const Eigen::VectorXd&) const;
+template Eigen::Matrix<double, 3, 10> Assembler<3>::positions<10>(int, const Eigen::VectorXd&) const;
 
 }  // namespace conserve::assembly

@@ -77,9 +77,12 @@ class Assembler {
   /// Each cell's F_n at the start u_n of a step: what every
   /// residual and tangent of the step shares, for the cells with a corner
   /// among this rank's nodes (all on one rank), in cell order: cell c's is
-  /// at pattern().local_cell(c).
+  /// at pattern().local_cell(c) (a quadratic cell's points' at
+  /// points_per_cell() × that, one per point).
   using StepStart = std::vector<fem::CellStart<D>>;
   [[nodiscard]] StepStart step_start(const Eigen::VectorXd& u_n) const;
+  /// The point starts a cell keeps: 1 (linear) or its rule's points.
+  [[nodiscard]] int points_per_cell() const;
 
   /// Internal force of the step u_n → u_{n+1} [N]; with `magnitude`, also
   /// Σ_cells |f_cell| per dof (what the sum cancelled, for round-off bounds).
@@ -148,11 +151,17 @@ class Assembler {
   /// they carry the round-off ε|x_A − x_0| of an edge, not ε|x| of where the
   /// body lies: F = Σ x_A ⊗ ∇N_A from absolute positions errs by ε|x|/h,
   /// which on a stiff body far from the origin puts the Newton residual
-  /// (K ε|x|) above any tolerance.
+  /// (K ε|x|) above any tolerance. Linear cells (positions<N> for others).
   [[nodiscard]] fem::NodeMatrix<D> cell_positions(int cell, const Eigen::VectorXd& u) const;
+  /// cell_positions() of a cell of N nodes (N = D+1 or fem::Quadratic<D>::kNodes).
+  template <int N>
+  [[nodiscard]] Eigen::Matrix<double, D, N> positions(int cell, const Eigen::VectorXd& u) const;
 
  private:
   [[nodiscard]] const material::Law& law(int cell) const { return *model_.bodies[model_.cell_body[cell]].law; }
+  /// body(std::integral_constant<int, order>) for the model's cell order.
+  template <class Body>
+  void by_order(const Body& body) const;
   /// K += ∂f/∂u_{n+1} and, if given, f += the internal force (and
   /// magnitude += Σ_cells |f_cell|, if given too).
   void add_tangent(const StepStart& start, const Eigen::VectorXd& u_np1, fem::StressScheme scheme, Eigen::VectorXd* f,

@@ -12,18 +12,19 @@ namespace conserve::assembly {
 template <int D>
 BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
                               const std::vector<std::pair<int, int>>& extra, int first, int end)
-    : first_(first), end_(end < 0 ? num_nodes : end) {
+    : first_(first), end_(end < 0 ? num_nodes : end), nodes_(static_cast<int>(cells.rows())) {
+  const int N = nodes_;
   const auto kept = [&](int node) { return node >= first_ && node < end_; };
   // The kept cells: those with a corner among the kept rows.
   local_cell_.assign(static_cast<std::size_t>(cells.cols()), -1);
   int locals = 0;
   for (Eigen::Index c = 0; c < cells.cols(); ++c)
-    for (int a = 0; a <= D; ++a)
+    for (int a = 0; a < N; ++a)
       if (kept(cells(a, c))) {
         local_cell_[static_cast<std::size_t>(c)] = locals++;
         break;
       }
-  cells_.resize(D + 1, locals);
+  cells_.resize(N, locals);
   for (Eigen::Index c = 0; c < cells.cols(); ++c)
     if (const int l = local_cell_[static_cast<std::size_t>(c)]; l >= 0) cells_.col(l) = cells.col(c);
   // Each column node's kept neighbours with repeats (its cells' kept nodes,
@@ -34,8 +35,8 @@ BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
   std::vector<std::size_t> start(nodes + 1, 0);
   for (Eigen::Index c = 0; c < cells_.cols(); ++c) {
     int in = 0;
-    for (int a = 0; a <= D; ++a) in += kept(cells_(a, c)) ? 1 : 0;
-    for (int b = 0; b <= D; ++b) start[static_cast<std::size_t>(cells_(b, c)) + 1] += static_cast<std::size_t>(in);
+    for (int a = 0; a < N; ++a) in += kept(cells_(a, c)) ? 1 : 0;
+    for (int b = 0; b < N; ++b) start[static_cast<std::size_t>(cells_(b, c)) + 1] += static_cast<std::size_t>(in);
   }
   for (const auto& [p, q] : extra) {
     if (kept(q)) ++start[static_cast<std::size_t>(p) + 1];
@@ -47,9 +48,9 @@ BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
   for (std::size_t n = 0; n < nodes; ++n)
     if (kept(static_cast<int>(n))) all[next[n]++] = static_cast<int>(n);
   for (Eigen::Index c = 0; c < cells_.cols(); ++c)
-    for (int b = 0; b <= D; ++b) {
+    for (int b = 0; b < N; ++b) {
       const auto B = static_cast<std::size_t>(cells_(b, c));
-      for (int a = 0; a <= D; ++a)
+      for (int a = 0; a < N; ++a)
         if (kept(cells_(a, c))) all[next[B]++] = cells_(a, c);
     }
   for (const auto& [p, q] : extra) {
@@ -81,14 +82,14 @@ BlockPattern<D>::BlockPattern(int num_nodes, const Eigen::MatrixXi& cells,
   outer_.assign(nodes * D + 1, 0);
   for (std::size_t n = 0; n < nodes; ++n)
     for (int k = 0; k < D; ++k) outer_[n * D + k + 1] = outer_[n * D + k] + count[n] * D;
-  rank_.resize(static_cast<std::size_t>(cells_.cols()) * (D + 1) * (D + 1));
+  rank_.resize(static_cast<std::size_t>(cells_.cols()) * N * N);
 #pragma omp parallel for schedule(static) if (cells.cols() >= 65536)
   for (Eigen::Index c = 0; c < cells_.cols(); ++c)
-    for (int b = 0; b <= D; ++b) {
+    for (int b = 0; b < N; ++b) {
       const int B = cells_(b, c);
       const auto first_at = neighbours_.begin() + offsets_[B], last = neighbours_.begin() + offsets_[B + 1];
-      for (int a = 0; a <= D; ++a)
-        rank_[static_cast<std::size_t>((c * (D + 1) + b) * (D + 1) + a)] =
+      for (int a = 0; a < N; ++a)
+        rank_[static_cast<std::size_t>((c * N + b) * N + a)] =
             kept(cells_(a, c)) ? static_cast<int>(std::lower_bound(first_at, last, cells_(a, c)) - first_at) : -1;
     }
 }

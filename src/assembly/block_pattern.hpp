@@ -18,7 +18,7 @@ namespace conserve::assembly {
 template <int D>
 class BlockPattern {
  public:
-  /// `cells`: (D+1) × n_cells node numbers; `extra` couples further node
+  /// `cells`: nodes × n_cells node numbers; `extra` couples further node
   /// pairs (both ways), e.g. for constraints. Only the rows of the nodes
   /// [first, end) are kept (end < 0: all nodes).
   BlockPattern(int num_nodes, const Eigen::MatrixXi& cells, const std::vector<std::pair<int, int>>& extra = {},
@@ -32,7 +32,7 @@ class BlockPattern {
   [[nodiscard]] int position(int cell, int a, int b, int i, int k) const {
     const int local = local_cell_[static_cast<std::size_t>(cell)];
     const int B = cells_(b, local);
-    return outer_[B * D + k] + rank_[(local * (D + 1) + b) * (D + 1) + a] * D + i;
+    return outer_[B * D + k] + rank_[(local * nodes_ + b) * nodes_ + a] * D + i;
   }
 
   /// Adds a cell's matrix Ke (row a·D+i, column b·D+k for local nodes a, b)
@@ -40,19 +40,20 @@ class BlockPattern {
   /// entries as position(), with the block starts found once per cell.
   /// Only the block rows a whose bit is set in `rows` (all by default):
   /// those of the nodes a thread owns (assembly/partition.hpp), which must
-  /// be kept rows.
-  void add_cell_matrix(int cell, const Eigen::Matrix<double, D*(D + 1), D*(D + 1)>& Ke, double* values,
-                       std::uint8_t rows = 0xff) const {
+  /// be kept rows. N: the cells' nodes.
+  template <int N>
+  void add_cell_matrix(int cell, const Eigen::Matrix<double, D * N, D * N>& Ke, double* values,
+                       std::uint16_t rows = 0xffff) const {
     const int local = local_cell_[static_cast<std::size_t>(cell)];
-    for (int b = 0; b <= D; ++b) {
+    for (int b = 0; b < N; ++b) {
       const int B = cells_(b, local);
-      const int* rank = &rank_[static_cast<std::size_t>(local * (D + 1) + b) * (D + 1)];
+      const int* rank = &rank_[static_cast<std::size_t>(local * N + b) * N];
       const int column = outer_[static_cast<std::size_t>(B) * D];
       const int height = D * (offsets_[B + 1] - offsets_[B]);  // the columns of node B are equally long
       for (int k = 0; k < D; ++k) {
         const double* ke = Ke.data() + (b * D + k) * Ke.rows();
         double* out = values + column + k * height;
-        for (int a = 0; a <= D; ++a) {
+        for (int a = 0; a < N; ++a) {
           if (!(rows >> a & 1u)) continue;
           for (int i = 0; i < D; ++i) out[rank[a] * D + i] += ke[a * D + i];
         }
@@ -92,6 +93,7 @@ class BlockPattern {
   // The row indices are not kept: column B·D+k holds the D rows of each of
   // B's kept neighbours in turn, so make_matrix() and find() derive them.
   int first_ = 0, end_ = 0;
+  int nodes_ = D + 1;            ///< per cell
   std::vector<int> local_cell_;  ///< per cell: its index among the kept cells, −1 if it has no kept corner
   Eigen::MatrixXi cells_;        ///< the kept cells
   std::vector<int> outer_;       ///< column starts (CSC)

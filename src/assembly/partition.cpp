@@ -9,7 +9,7 @@ NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int p
   if (end < 0) end = num_nodes;
   if (first < 0 || first > end || end > num_nodes) throw std::invalid_argument("partition_nodes: bad node range");
   if (parts < 1) throw std::invalid_argument("partition_nodes: parts must be at least 1");
-  if (cells.rows() > 8) throw std::invalid_argument("partition_nodes: at most 8 corners per cell");
+  if (cells.rows() > kMaxCorners) throw std::invalid_argument("partition_nodes: at most 16 nodes per cell");
   const auto corners = static_cast<long long>(cells.size());
   std::vector<long long> before(static_cast<std::size_t>(num_nodes) + 1, 0);  // corners at nodes < n
   for (Eigen::Index i = 0; i < cells.size(); ++i) ++before[static_cast<std::size_t>(cells.data()[i]) + 1];
@@ -33,17 +33,17 @@ NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int p
 
   // Count, then fill, the visits part by part in ascending cell order.
   const int corners_per_cell = static_cast<int>(cells.rows());
-  std::vector<std::vector<std::pair<int, std::uint8_t>>> visits(parts);
+  std::vector<std::vector<std::pair<int, CornerMask>>> visits(parts);
   for (int c = 0; c < cells.cols(); ++c) {
-    std::uint8_t owned[8] = {};
-    int touched[8], num_touched = 0;
+    CornerMask owned[kMaxCorners] = {};
+    int touched[kMaxCorners], num_touched = 0;
     for (int a = 0; a < corners_per_cell; ++a) {
       const int k = part_of[cells(a, c)];
       if (k < 0) continue;  // a node outside the range
       int t = 0;
       while (t < num_touched && touched[t] != k) ++t;
       if (t == num_touched) touched[num_touched++] = k;
-      owned[t] |= static_cast<std::uint8_t>(1u << a);
+      owned[t] |= static_cast<CornerMask>(1u << a);
     }
     for (int t = 0; t < num_touched; ++t) visits[touched[t]].emplace_back(c, owned[t]);
   }

@@ -21,14 +21,18 @@
 
 namespace conserve::assembly {
 
+/// One bit per node of a cell (a 10-node tetrahedron's fit).
+using CornerMask = std::uint16_t;
+inline constexpr int kMaxCorners = 16;
+
 struct NodePartition {
   /// Part p owns nodes [first_node[p], first_node[p+1]).
   std::vector<int> first_node;
   /// Part p visits visits [visit_start[p], visit_start[p+1]).
   std::vector<int> visit_start;
   std::vector<int> visit_cell;  ///< ascending within a part
-  /// Bit a set: the part owns the cell's corner a.
-  std::vector<std::uint8_t> visit_owned;
+  /// Bit a set: the part owns the cell's node a.
+  std::vector<CornerMask> visit_owned;
 
   [[nodiscard]] int num_parts() const { return static_cast<int>(first_node.size()) - 1; }
   [[nodiscard]] int num_visits() const { return static_cast<int>(visit_cell.size()); }
@@ -37,8 +41,8 @@ struct NodePartition {
 /// `parts` (≥ 1) contiguous node ranges holding about equal numbers of
 /// cell corners (the work of adding into them), covering the nodes
 /// [first, end) (end < 0: all nodes); the parts visit only cells with a
-/// corner there. `cells`: (D+1) × n_cells node numbers below `num_nodes`,
-/// D + 1 ≤ 8.
+/// corner there. `cells`: nodes × n_cells node numbers below `num_nodes`,
+/// at most kMaxCorners nodes per cell.
 NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int parts, int first = 0, int end = -1);
 
 }  // namespace conserve::assembly

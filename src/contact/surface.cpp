@@ -157,6 +157,10 @@ ContactSurface make_surface(const model::Model<D>& model, int body, const std::s
   if (body < 0 || body >= static_cast<int>(model.bodies.size()))
     throw InputError(fmt::format("contact surface: no body number {} (the model has {})", body, model.bodies.size()));
   const model::Body& b = model.bodies[static_cast<std::size_t>(body)];
+  if (b.num_cells > 0 && model.order != 1)
+    throw InputError(fmt::format("contact surface: body '{}', group '{}': contact and surface loads on quadratic "
+                                 "facets are not available in this version (mesh the body with order = 1)",
+                                 b.name, group));
   ContactSurface surface;
   surface.name = b.name + ":" + group;
   surface.body = body;

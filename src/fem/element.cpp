@@ -1,5 +1,8 @@
 #include "fem/element.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include "fem/discrete_gradient.hpp"
 
 namespace conserve::fem {
@@ -13,11 +16,15 @@ struct AlgorithmicState {
   Mat<D> S;      ///< algorithmic second Piola–Kirchhoff stress
 };
 
+/// Positions of a cell's N nodes.
+template <int D, int N>
+using Nodes = Eigen::Matrix<double, D, N>;
+
 /// SVK's state: the Simo–Tarnow stress, or the mid-point S(E(F_{n+½})).
-template <int D>
-AlgorithmicState<D> svk_state(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
-                              const NodeMatrix<D>& x_np1, StressScheme scheme) {
-  const Mat<D> F_np1 = deformation_gradient<D>(x_np1, g);
+template <int D, int N>
+AlgorithmicState<D> svk_state(const PointGeometry<D, N>& g, const material::Lame& lame, const CellStart<D>& start,
+                              const Nodes<D, N>& x_np1, StressScheme scheme) {
+  const Mat<D> F_np1 = x_np1.lazyProduct(g.grad.transpose());
   const Mat<D> F_mid = 0.5 * (start.F + F_np1);
   if (scheme == StressScheme::midpoint) {
     return {F_mid, F_mid, material::svk_stress<D>(lame, material::green_lagrange<D>(F_mid))};
@@ -35,10 +42,10 @@ struct LawState {
   material::Mat9 dS;
 };
 
-template <int D>
-LawState<D> law_state(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
-                      const NodeMatrix<D>& x_np1, StressScheme scheme, bool with_derivative) {
-  const Mat<D> F_np1 = deformation_gradient<D>(x_np1, g);
+template <int D, int N>
+LawState<D> law_state(const PointGeometry<D, N>& g, const material::Law& law, const CellStart<D>& start,
+                      const Nodes<D, N>& x_np1, StressScheme scheme, bool with_derivative) {
+  const Mat<D> F_np1 = x_np1.lazyProduct(g.grad.transpose());
   const Mat<D> F_mid = 0.5 * (start.F + F_np1);
   LawState<D> s;
   s.state.F_mid = F_mid;
@@ -60,8 +67,8 @@ LawState<D> law_state(const SimplexGeometry<D>& g, const material::Law& law, con
 
 /// f_A = V F_{n+½} S ∇N_A; one expression for the force and the tangent,
 /// so that both give the same bits.
-template <int D>
-NodeMatrix<D> force_of_state(const SimplexGeometry<D>& g, const AlgorithmicState<D>& s) {
+template <int D, int N>
+Nodes<D, N> force_of_state(const PointGeometry<D, N>& g, const AlgorithmicState<D>& s) {
   return (g.volume * s.F_mid.lazyProduct(s.S)).lazyProduct(g.grad);  // coefficient-wise, no temporaries
 }
 
@@ -72,11 +79,23 @@ CellStart<D> cell_start(const SimplexGeometry<D>& g, const NodeMatrix<D>& x_n) {
   return {deformation_gradient<D>(x_n, g)};
 }
 
+namespace {
+
+/// The force at one point (the whole cell for a linear one).
+template <int D, int N>
+Nodes<D, N> point_force(const PointGeometry<D, N>& g, const material::Law& law, const CellStart<D>& start,
+                        const Nodes<D, N>& x_np1, StressScheme scheme) {
+  if (const material::Lame* lame = law.svk())
+    return force_of_state<D, N>(g, svk_state<D, N>(g, *lame, start, x_np1, scheme));
+  return force_of_state<D, N>(g, law_state<D, N>(g, law, start, x_np1, scheme, false).state);
+}
+
+}  // namespace
+
 template <int D>
 NodeMatrix<D> internal_force(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
                              const NodeMatrix<D>& x_np1, StressScheme scheme) {
-  if (const material::Lame* lame = law.svk()) return force_of_state<D>(g, svk_state<D>(g, *lame, start, x_np1, scheme));
-  return force_of_state<D>(g, law_state<D>(g, law, start, x_np1, scheme, false).state);
+  return point_force<D, D + 1>(g, law, start, x_np1, scheme);
 }
 
 template <int D>
@@ -102,34 +121,37 @@ void internal_force_tangent(const SimplexGeometry<D>& g, const material::Law& la
 
 namespace {
 
+template <int D, int N>
+using CellMatrix = Eigen::Matrix<double, D * N, D * N>;
+
 /// SVK's closed form (above).
-template <int D>
-void svk_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, const CellStart<D>& start,
-                       const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
-  constexpr int n = D * (D + 1);
+template <int D, int N>
+void svk_force_tangent(const PointGeometry<D, N>& g, const material::Lame& lame, const CellStart<D>& start,
+                       const Nodes<D, N>& x_np1, StressScheme scheme, Nodes<D, N>& f, CellMatrix<D, N>& K) {
+  constexpr int n = D * N;
   using Column = Eigen::Array<double, n, 1>;
-  const AlgorithmicState<D> s = svk_state<D>(g, lame, start, x_np1, scheme);
-  f = force_of_state<D>(g, s);
+  const AlgorithmicState<D> s = svk_state<D, N>(g, lame, start, x_np1, scheme);
+  f = force_of_state<D, N>(g, s);
   const double h = 0.5 * g.volume;
-  const NodeMatrix<D> Fa = s.F_mid * g.grad;
-  const NodeMatrix<D> Ga = s.G * g.grad;
+  const Nodes<D, N> Fa = s.F_mid * g.grad;
+  const Nodes<D, N> Ga = s.G * g.grad;
   const Mat<D> mu_FGt = (h * lame.mu) * (s.F_mid * s.G.transpose());
-  const Eigen::Matrix<double, D + 1, D + 1> aa = g.grad.transpose() * g.grad;
-  const Eigen::Matrix<double, D + 1, D + 1> aSa = g.grad.transpose() * (h * (s.S * g.grad));
+  const Eigen::Matrix<double, N, N> aa = g.grad.transpose() * g.grad;
+  const Eigen::Matrix<double, N, N> aSa = g.grad.transpose() * (h * (s.S * g.grad));
   // Columns over the rows (A, i): λ'(F a_A)_i; per B, μ'(F a_B)_i and a_A·a_B;
   // per k, (G a_A)_k and μ'(F Gᵀ)_ik.
   const Column lambda_Fa = (h * lame.lambda) * Eigen::Map<const Column>(Fa.data());
-  Column mu_Fa[D + 1], aa_of[D + 1], Ga_of[D], FGt_of[D];
-  for (int A = 0; A <= D; ++A)
+  Column mu_Fa[N], aa_of[N], Ga_of[D], FGt_of[D];
+  for (int A = 0; A < N; ++A)
     for (int i = 0; i < D; ++i) {
-      for (int B = 0; B <= D; ++B) mu_Fa[B][A * D + i] = (h * lame.mu) * Fa(i, B), aa_of[B][A * D + i] = aa(A, B);
+      for (int B = 0; B < N; ++B) mu_Fa[B][A * D + i] = (h * lame.mu) * Fa(i, B), aa_of[B][A * D + i] = aa(A, B);
       for (int k = 0; k < D; ++k) Ga_of[k][A * D + i] = Ga(k, A), FGt_of[k][A * D + i] = mu_FGt(i, k);
     }
-  for (int B = 0; B <= D; ++B)
+  for (int B = 0; B < N; ++B)
     for (int k = 0; k < D; ++k) {
       Eigen::Map<Column> column(K.data() + (B * D + k) * n);
       column = Ga(k, B) * lambda_Fa + mu_Fa[B] * Ga_of[k] + FGt_of[k] * aa_of[B];
-      for (int A = 0; A <= D; ++A) column[A * D + k] += aSa(A, B);
+      for (int A = 0; A < N; ++A) column[A * D + k] += aSa(A, B);
     }
 }
 
@@ -142,15 +164,15 @@ void svk_force_tangent(const SimplexGeometry<D>& g, const material::Lame& lame, 
 // dS : δC_G = 2 dS : (G_k ⊗ a_B), G_k the k-th row of G: with
 //   U_ij = V F_{n+½} mat(dS(:, i + 3j)) ∇N   (D × (D+1), over i, j < D),
 // δf(B, k) = 2 Σ_ij G_ki a_Bj U_ij, fixed-size products only.
-template <int D>
-void law_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
-                       const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
-  const LawState<D> s = law_state<D>(g, law, start, x_np1, scheme, true);
-  f = force_of_state<D>(g, s.state);
+template <int D, int N>
+void law_force_tangent(const PointGeometry<D, N>& g, const material::Law& law, const CellStart<D>& start,
+                       const Nodes<D, N>& x_np1, StressScheme scheme, Nodes<D, N>& f, CellMatrix<D, N>& K) {
+  const LawState<D> s = law_state<D, N>(g, law, start, x_np1, scheme, true);
+  f = force_of_state<D, N>(g, s.state);
   const double V = g.volume;
-  const Eigen::Matrix<double, D + 1, D + 1> aSa = g.grad.transpose() * (s.state.S * g.grad);
+  const Eigen::Matrix<double, N, N> aSa = g.grad.transpose() * (s.state.S * g.grad);
   const Mat<D> VF = V * s.state.F_mid;
-  NodeMatrix<D> U[D][D];
+  Nodes<D, N> U[D][D];
   for (int i = 0; i < D; ++i)
     for (int j = 0; j < D; ++j) {
       const Eigen::Map<const Mat3> column(s.dS.col(i + 3 * j).data());
@@ -158,42 +180,40 @@ void law_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, co
     }
   for (int k = 0; k < D; ++k) {
     // T_j = 2 Σ_i G_ki U_ij: then δf(B, k) = Σ_j a_Bj T_j.
-    NodeMatrix<D> T[D];
+    Nodes<D, N> T[D];
     for (int j = 0; j < D; ++j) {
       T[j] = (2.0 * s.state.G(k, 0)) * U[0][j];
       for (int i = 1; i < D; ++i) T[j] += (2.0 * s.state.G(k, i)) * U[i][j];
     }
-    for (int B = 0; B <= D; ++B) {
-      NodeMatrix<D> df = g.grad(0, B) * T[0];
+    for (int B = 0; B < N; ++B) {
+      Nodes<D, N> df = g.grad(0, B) * T[0];
       for (int j = 1; j < D; ++j) df += g.grad(j, B) * T[j];
-      for (int A = 0; A <= D; ++A)
+      for (int A = 0; A < N; ++A)
         for (int i = 0; i < D; ++i) K(A * D + i, B * D + k) = df(i, A) + (i == k ? 0.5 * V * aSa(A, B) : 0.0);
     }
   }
 }
 
-}  // namespace
-
-template <int D>
-void internal_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
-                            const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
+template <int D, int N>
+void point_force_tangent(const PointGeometry<D, N>& g, const material::Law& law, const CellStart<D>& start,
+                         const Nodes<D, N>& x_np1, StressScheme scheme, Nodes<D, N>& f, CellMatrix<D, N>& K) {
   if (const material::Lame* lame = law.svk())
-    svk_force_tangent<D>(g, *lame, start, x_np1, scheme, f, K);
+    svk_force_tangent<D, N>(g, *lame, start, x_np1, scheme, f, K);
   else
-    law_force_tangent<D>(g, law, start, x_np1, scheme, f, K);
+    law_force_tangent<D, N>(g, law, start, x_np1, scheme, f, K);
 }
 
+/// W at one point from its F: V ρ0Ψ(E(F)).
 template <int D>
-double strain_energy(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x) {
-  const Mat<D> F = deformation_gradient<D>(x, g);
+double point_energy(double volume, const material::Law& law, const Mat<D>& F) {
   if (const material::Lame* lame = law.svk())
-    return g.volume * material::svk_energy_density<D>(*lame, material::green_lagrange<D>(F));
-  return g.volume * law.energy(material::embed_plane_strain<D>(Mat<D>(F.transpose() * F)));
+    return volume * material::svk_energy_density<D>(*lame, material::green_lagrange<D>(F));
+  return volume * law.energy(material::embed_plane_strain<D>(Mat<D>(F.transpose() * F)));
 }
 
+/// σ at one point from its F.
 template <int D>
-Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x) {
-  const Mat<D> F = deformation_gradient<D>(x, g);
+Mat3 point_stress(const material::Law& law, const Mat<D>& F) {
   const double J = F.determinant();
   Mat3 sigma = Mat3::Zero();
   if (const material::Lame* lame = law.svk()) {
@@ -208,6 +228,85 @@ Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Law& law, const 
   return sigma;
 }
 
+}  // namespace
+
+template <int D>
+void internal_force_tangent(const SimplexGeometry<D>& g, const material::Law& law, const CellStart<D>& start,
+                            const NodeMatrix<D>& x_np1, StressScheme scheme, NodeMatrix<D>& f, ElementMatrix<D>& K) {
+  point_force_tangent<D, D + 1>(g, law, start, x_np1, scheme, f, K);
+}
+
+template <int D>
+double strain_energy(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x) {
+  return point_energy<D>(g.volume, law, deformation_gradient<D>(x, g));
+}
+
+template <int D>
+Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x) {
+  return point_stress<D>(law, deformation_gradient<D>(x, g));
+}
+
+// Quadratic cells: the sums over the points of the force rule
+// (fem/quadratic.hpp) of the same point kernels.
+
+template <int D>
+void cell_start(const QuadraticGeometry<D>& g, const QuadraticNodes<D>& x_n, CellStart<D>* start) {
+  for (int q = 0; q < QuadraticGeometry<D>::kPoints; ++q)
+    start[q] = {x_n.lazyProduct(g.at(q).grad.transpose())};
+}
+
+template <int D>
+QuadraticNodes<D> internal_force(const QuadraticGeometry<D>& g, const material::Law& law, const CellStart<D>* start,
+                                 const QuadraticNodes<D>& x_np1, StressScheme scheme) {
+  constexpr int N = Quadratic<D>::kNodes;
+  QuadraticNodes<D> f = point_force<D, N>(g.at(0), law, start[0], x_np1, scheme);
+  for (int q = 1; q < QuadraticGeometry<D>::kPoints; ++q) f += point_force<D, N>(g.at(q), law, start[q], x_np1, scheme);
+  return f;
+}
+
+template <int D>
+void internal_force_tangent(const QuadraticGeometry<D>& g, const material::Law& law, const CellStart<D>* start,
+                            const QuadraticNodes<D>& x_np1, StressScheme scheme, QuadraticNodes<D>& f,
+                            QuadraticMatrix<D>& K) {
+  constexpr int N = Quadratic<D>::kNodes;
+  point_force_tangent<D, N>(g.at(0), law, start[0], x_np1, scheme, f, K);
+  QuadraticNodes<D> fq;
+  QuadraticMatrix<D> Kq;
+  for (int q = 1; q < QuadraticGeometry<D>::kPoints; ++q) {
+    point_force_tangent<D, N>(g.at(q), law, start[q], x_np1, scheme, fq, Kq);
+    f += fq;
+    K += Kq;
+  }
+}
+
+template <int D>
+double strain_energy(const QuadraticGeometry<D>& g, const material::Law& law, const QuadraticNodes<D>& x) {
+  double W = 0.0;
+  for (int q = 0; q < QuadraticGeometry<D>::kPoints; ++q) {
+    const auto p = g.at(q);
+    W += point_energy<D>(p.volume, law, Mat<D>(x.lazyProduct(p.grad.transpose())));
+  }
+  return W;
+}
+
+template <int D>
+Mat3 cauchy_stress(const QuadraticGeometry<D>& g, const material::Law& law, const QuadraticNodes<D>& x) {
+  Mat3 sigma = Mat3::Zero();
+  for (int q = 0; q < QuadraticGeometry<D>::kPoints; ++q) {
+    const auto p = g.at(q);
+    sigma += p.volume * point_stress<D>(law, Mat<D>(x.lazyProduct(p.grad.transpose())));
+  }
+  return sigma / g.volume;
+}
+
+template <int D>
+double min_det_F(const QuadraticGeometry<D>& g, const QuadraticNodes<D>& x) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int q = 0; q < QuadraticGeometry<D>::kPoints; ++q)
+    lowest = std::min(lowest, Mat<D>(x.lazyProduct(g.at(q).grad.transpose())).determinant());
+  return lowest;
+}
+
 #define CONSERVE_INSTANTIATE(D)                                                                                       \
   template CellStart<D> cell_start<D>(const SimplexGeometry<D>&, const NodeMatrix<D>&);                              \
   template NodeMatrix<D> internal_force<D>(const SimplexGeometry<D>&, const material::Law&, const CellStart<D>&,    \
@@ -219,7 +318,16 @@ Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Law& law, const 
   template void internal_force_tangent<D>(const SimplexGeometry<D>&, const material::Law&, const StepPositions<D>&,  \
                                           StressScheme, NodeMatrix<D>&, ElementMatrix<D>&);                           \
   template double strain_energy<D>(const SimplexGeometry<D>&, const material::Law&, const NodeMatrix<D>&);           \
-  template Mat3 cauchy_stress<D>(const SimplexGeometry<D>&, const material::Law&, const NodeMatrix<D>&);
+  template Mat3 cauchy_stress<D>(const SimplexGeometry<D>&, const material::Law&, const NodeMatrix<D>&);              \
+  template void cell_start<D>(const QuadraticGeometry<D>&, const QuadraticNodes<D>&, CellStart<D>*);                  \
+  template QuadraticNodes<D> internal_force<D>(const QuadraticGeometry<D>&, const material::Law&, const CellStart<D>*, \
+                                               const QuadraticNodes<D>&, StressScheme);                               \
+  template void internal_force_tangent<D>(const QuadraticGeometry<D>&, const material::Law&, const CellStart<D>*,     \
+                                          const QuadraticNodes<D>&, StressScheme, QuadraticNodes<D>&,                  \
+                                          QuadraticMatrix<D>&);                                                        \
+  template double strain_energy<D>(const QuadraticGeometry<D>&, const material::Law&, const QuadraticNodes<D>&);     \
+  template Mat3 cauchy_stress<D>(const QuadraticGeometry<D>&, const material::Law&, const QuadraticNodes<D>&);       \
+  template double min_det_F<D>(const QuadraticGeometry<D>&, const QuadraticNodes<D>&);
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)
 #undef CONSERVE_INSTANTIATE

@@ -10,8 +10,11 @@
 ///                              (fem/discrete_gradient.hpp, exact energy)
 ///   midpoint:   S = S(C(F_{n+½}))            (negative control)
 ///   f_A = V F_{n+½} S ∇N_A
-/// The tangent ∂f/∂x_{n+1} is not symmetric. SVK (material::Law::svk) has
+/// A quadratic cell (fem/quadratic.hpp) sums the same terms over its
+/// points: f_A = Σ_q w_q det J_q F_{n+½} S ∇N_A, each point with its own
+/// F_n, S and exact energy. The tangent ∂f/∂x_{n+1} is not symmetric. SVK (material::Law::svk) has
 /// a closed-form kernel; other laws go through S and ℂ of the law.
+#include "fem/quadratic.hpp"
 #include "fem/simplex.hpp"
 #include "material/law.hpp"
 
@@ -65,5 +68,26 @@ double strain_energy(const SimplexGeometry<D>& g, const material::Law& law, cons
 /// strain: σ_zz = J⁻¹ S_zz, λ tr E / J for SVK) [Pa].
 template <int D>
 Mat3 cauchy_stress(const SimplexGeometry<D>& g, const material::Law& law, const NodeMatrix<D>& x);
+
+/// Quadratic cells: `start` holds the cell's Quadratic<D>::kPoints point
+/// starts (one CellStart per point, in the rule's order).
+template <int D>
+void cell_start(const QuadraticGeometry<D>& g, const QuadraticNodes<D>& x_n, CellStart<D>* start);
+template <int D>
+QuadraticNodes<D> internal_force(const QuadraticGeometry<D>& g, const material::Law& law, const CellStart<D>* start,
+                                 const QuadraticNodes<D>& x_np1, StressScheme scheme);
+template <int D>
+void internal_force_tangent(const QuadraticGeometry<D>& g, const material::Law& law, const CellStart<D>* start,
+                            const QuadraticNodes<D>& x_np1, StressScheme scheme, QuadraticNodes<D>& f,
+                            QuadraticMatrix<D>& K);
+/// W = Σ_q w_q det J_q ρ0Ψ(E(F_q)) [J], by the force's rule.
+template <int D>
+double strain_energy(const QuadraticGeometry<D>& g, const material::Law& law, const QuadraticNodes<D>& x);
+/// The cell's mean Cauchy stress (volume-weighted over its points) [Pa].
+template <int D>
+Mat3 cauchy_stress(const QuadraticGeometry<D>& g, const material::Law& law, const QuadraticNodes<D>& x);
+/// The smallest det F over the cell's points.
+template <int D>
+double min_det_F(const QuadraticGeometry<D>& g, const QuadraticNodes<D>& x);
 
 }  // namespace conserve::fem

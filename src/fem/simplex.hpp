@@ -19,12 +19,18 @@ using NodeMatrix = Eigen::Matrix<double, D, D + 1>;
 template <int D>
 using ElementMatrix = Eigen::Matrix<double, D*(D + 1), D*(D + 1)>;
 
-/// Reference geometry of one cell.
-template <int D>
-struct SimplexGeometry {
-  NodeMatrix<D> grad;   ///< column A = ∇_X N_A [1/m]
-  double volume = 0.0;  ///< reference volume [m³] (2D: area × thickness)
+/// Reference geometry at one quadrature point of a cell with N nodes: the
+/// whole linear simplex (N = D+1, one point), or one point of a quadratic
+/// one (fem/quadratic.hpp).
+template <int D, int N>
+struct PointGeometry {
+  Eigen::Matrix<double, D, N> grad;  ///< column A = ∇_X N_A [1/m]
+  double volume = 0.0;               ///< the point's weight × det J: reference volume [m³] (2D: area × thickness)
 };
+
+/// Reference geometry of one linear cell.
+template <int D>
+using SimplexGeometry = PointGeometry<D, D + 1>;
 
 /// Signed measure (length/area/volume) of the simplex with nodes X:
 /// det[X_1 − X_0, …, X_D − X_0] / D!. Positive for the positive orientation.

@@ -402,13 +402,15 @@ SectionSpec material_section() {
 SectionSpec mesh_section() {
   return {.name = "body.mesh",
           .doc =
-              "The body's mesh: exactly one of `file` or `generator`. With `generator`, every "
-              "other key is a parameter of that generator (a number, see the generator list below).",
+              "The body's mesh: exactly one of `file` or `generator`. With `generator`, `order` sets the "
+              "element order and every other key is a parameter of that generator (a number, see the "
+              "generator list below).",
           .keys =
               {
                   {.name = "file",
                    .type = KeyType::string,
-                   .doc = "Gmsh .msh 4.1 file or STL file (`.stl`, ASCII or binary, 3D), relative to the "
+                   .doc = "Gmsh .msh 4.1 file (linear or quadratic cells, e.g. `gmsh -order 2`) or STL file (`.stl`, "
+                          "ASCII or binary, 3D), relative to the "
                           "scenario file's folder; must exist. A rigid body's may be a bare surface: a .msh file "
                           "without cells but with 3-node triangles (3D) or 2-node lines (2D), or an STL file; facet "
                           "groups `surface` (all facets) and the file's physical groups; its facets must be "
@@ -434,6 +436,15 @@ SectionSpec mesh_section() {
                   {.name = "generator",
                    .type = KeyType::string,
                    .doc = "name of a built-in mesh generator; its `dim` must equal `dimension`"},
+                  {.name = "order",
+                   .type = KeyType::integer,
+                   .default_value = "1",
+                   .min = Bound{1, true},
+                   .max = Bound{2, true},
+                   .doc = "element order of a generated mesh: 1 (3-node triangles, 4-node tetrahedra) or 2 "
+                          "(6-node triangles, 10-node tetrahedra, their boundary midside nodes on the true curved "
+                          "surface); only with `generator` (a file's element types give its order: Gmsh types 2 "
+                          "and 4, or 9 and 11); a bare surface (`square`, `segment`) is order 1 only"},
               },
           .open = true};
 }

@@ -1,5 +1,7 @@
 /// Scenario parsing: [body.mesh], a mesh file or a generator whose
-/// parameters are checked against mesh::generator_catalog().
+/// parameters are checked against mesh::generator_catalog(); `order` (the
+/// generator's element order, which every generator takes) is a declared
+/// key of [body.mesh], checked as an integer 1 or 2.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -28,14 +30,18 @@ fs::path resolve_mesh_file(const Section& s, const fs::path& scenario_file) {
   return file;
 }
 
-/// The keys of `s` other than "generator", in file order.
+/// The keys of `s` other than "generator" and "order", in file order.
 std::vector<std::string> keys_in_file_order(const Section& s) {
   std::vector<std::string> names = s.keys_in_file_order();
   names.erase(std::remove(names.begin(), names.end(), "generator"), names.end());
+  names.erase(std::remove(names.begin(), names.end(), "order"), names.end());
   return names;
 }
 
 MeshSpec parse_file_mesh(const Section& s, const fs::path& scenario_file) {
+  if (s.has("order"))
+    s.fail("order", "is only allowed with 'generator'",
+           "no 'order' with a file: its element types give it (3- or 6-node triangles, 4- or 10-node tetrahedra)");
   for (const auto& key : keys_in_file_order(s)) {
     if (key != "file" && key != "group" && key != "flip_normals" && key != "reorder") {
       s.fail(key, fmt::format("unknown key '{}'", key), "one of: " + key_names(s.spec()));
@@ -57,9 +63,11 @@ std::string generator_names(int dim) {
   return names;
 }
 
+/// The generator's own parameters (not `order`, a key of [body.mesh]).
 std::string parameter_names(const mesh::GeneratorInfo& info) {
   std::string names;
-  for (const auto& p : info.parameters) names += (names.empty() ? "" : ", ") + p.name;
+  for (const auto& p : info.parameters)
+    if (p.name != "order") names += (names.empty() ? "" : ", ") + p.name;
   return names;
 }
 
@@ -86,11 +94,13 @@ std::map<std::string, double> generator_parameters(const Section& s, const std::
                                                    const mesh::GeneratorInfo& info) {
   std::map<std::string, double> values;
   for (const auto& key : keys_in_file_order(s)) values[key] = parameter_value(s, key, generator, info);
+  // Parameters with defaults are left out when absent (mesh::generate_mesh
+  // fills them in), so a scenario without `order` has the parameters it had.
   for (const auto& p : info.parameters) {
-    if (values.count(p.name)) continue;
-    if (p.required) s.fail(p.name, fmt::format("missing parameter of generator '{}'", generator), describe(p));
-    values[p.name] = p.default_value;
+    if (!values.count(p.name) && p.required)
+      s.fail(p.name, fmt::format("missing parameter of generator '{}'", generator), describe(p));
   }
+  if (s.has("order")) values["order"] = s.integer("order");
   return values;
 }
 

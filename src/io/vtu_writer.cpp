@@ -122,33 +122,49 @@ std::string points(Arrays& arrays, const Eigen::MatrixXd& p) {
   return "      <Points>\n" + arrays.add("Float64", "", 3, xyz) + "      </Points>\n";
 }
 
-std::uint8_t cell_type(int nodes_per_cell) {
-  switch (nodes_per_cell) {
+/// The type of a cell of `nodes` nodes when the grid gives no types.
+std::uint8_t inferred_type(int nodes) {
+  switch (nodes) {
     case 1:
-      return 1;  // VTK_VERTEX
+      return kVtkVertex;
     case 2:
-      return 3;  // VTK_LINE
+      return kVtkLine;
     case 3:
-      return 5;  // VTK_TRIANGLE
+      return kVtkTriangle;
     case 4:
-      return 10;  // VTK_TETRA
+      return kVtkTetra;
     default:
-      throw Error(fmt::format("VTU cells: no simplex with {} nodes", nodes_per_cell));
+      throw Error(fmt::format("VTU cells: no simplex with {} nodes (quadratic cells need VtuGrid::types)", nodes));
   }
 }
 
 /// How many nodes each cell of `grid` has (checked against its column).
 std::vector<int> node_counts(const VtuGrid& grid) {
   const auto& c = grid.cells;
-  if (grid.nodes_per_cell.empty())
-    return std::vector<int>(static_cast<std::size_t>(c.cols()), static_cast<int>(c.rows()));
-  if (grid.nodes_per_cell.size() != static_cast<std::size_t>(c.cols()))
-    throw Error(fmt::format("VTU cells: {} node counts for {} cells", grid.nodes_per_cell.size(), c.cols()));
-  for (std::size_t j = 0; j < grid.nodes_per_cell.size(); ++j) {
-    if (grid.nodes_per_cell[j] < 1 || grid.nodes_per_cell[j] > c.rows())
-      throw Error(fmt::format("VTU cell {}: {} nodes in a column of {}", j, grid.nodes_per_cell[j], c.rows()));
+  if (!grid.types.empty() && grid.types.size() != static_cast<std::size_t>(c.cols()))
+    throw Error(fmt::format("VTU cells: {} types for {} cells", grid.types.size(), c.cols()));
+  std::vector<int> counts = grid.nodes_per_cell;
+  if (counts.empty() && grid.types.empty())
+    counts.assign(static_cast<std::size_t>(c.cols()), static_cast<int>(c.rows()));
+  if (counts.empty())
+    for (const std::uint8_t type : grid.types) counts.push_back(vtk_cell_nodes(type));
+  if (counts.size() != static_cast<std::size_t>(c.cols()))
+    throw Error(fmt::format("VTU cells: {} node counts for {} cells", counts.size(), c.cols()));
+  for (std::size_t j = 0; j < counts.size(); ++j) {
+    if (counts[j] < 1 || counts[j] > c.rows())
+      throw Error(fmt::format("VTU cell {}: {} nodes in a column of {}", j, counts[j], c.rows()));
+    if (!grid.types.empty() && vtk_cell_nodes(grid.types[j]) != counts[j])
+      throw Error(fmt::format("VTU cell {}: type {} with {} nodes", j, grid.types[j], counts[j]));
   }
-  return grid.nodes_per_cell;
+  return counts;
+}
+
+/// Slot i of a VTK cell of `type` holds the cell's (Gmsh-ordered) node
+/// slot(type, i): the identity but for a 10-node tetrahedron's edges
+/// (1,3) and (2,3), Gmsh's slots 9 and 8.
+int gmsh_slot(std::uint8_t type, int i) {
+  if (type != kVtkQuadraticTetra || i < 8) return i;
+  return i == 8 ? 9 : 8;
 }
 
 std::string cells(Arrays& arrays, const VtuGrid& grid) {
@@ -159,20 +175,49 @@ std::string cells(Arrays& arrays, const VtuGrid& grid) {
   std::vector<std::uint8_t> types;
   for (Eigen::Index j = 0; j < c.cols(); ++j) {
     const int m = counts[static_cast<std::size_t>(j)];
-    for (Eigen::Index i = 0; i < m; ++i) {
-      if (c(i, j) < 0 || c(i, j) >= grid.points.cols()) {
-        throw Error(fmt::format("VTU cell {}: node {} out of range", j, c(i, j)));
-      }
-      connectivity.push_back(c(i, j));
+    const std::uint8_t type = grid.types.empty() ? inferred_type(m) : grid.types[static_cast<std::size_t>(j)];
+    for (int i = 0; i < m; ++i) {
+      const int node = c(gmsh_slot(type, i), j);
+      if (node < 0 || node >= grid.points.cols())
+        throw Error(fmt::format("VTU cell {}: node {} out of range", j, node));
+      connectivity.push_back(node);
     }
     offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
-    types.push_back(cell_type(m));
+    types.push_back(type);
   }
   return "      <Cells>\n" + arrays.add("Int64", "connectivity", 1, connectivity) +
          arrays.add("Int64", "offsets", 1, offsets) + arrays.add("UInt8", "types", 1, types) + "      </Cells>\n";
 }
 
 }  // namespace
+
+std::uint8_t vtk_cell_type(int dim, int nodes) {
+  if (dim >= 0 && dim <= 3 && nodes == dim + 1) return inferred_type(nodes);
+  if (dim == 1 && nodes == 3) return kVtkQuadraticEdge;
+  if (dim == 2 && nodes == 6) return kVtkQuadraticTriangle;
+  if (dim == 3 && nodes == 10) return kVtkQuadraticTetra;
+  throw Error(fmt::format("VTU cells: no simplex of dimension {} with {} nodes", dim, nodes));
+}
+
+int vtk_cell_nodes(std::uint8_t type) {
+  switch (type) {
+    case kVtkVertex:
+      return 1;
+    case kVtkLine:
+      return 2;
+    case kVtkTriangle:
+    case kVtkQuadraticEdge:
+      return 3;
+    case kVtkTetra:
+      return 4;
+    case kVtkQuadraticTriangle:
+      return 6;
+    case kVtkQuadraticTetra:
+      return 10;
+    default:
+      throw Error(fmt::format("VTU cells: unsupported VTK cell type {}", type));
+  }
+}
 
 std::uintmax_t write_vtu(const std::filesystem::path& file, const VtuGrid& grid, const VtuFormat& format) {
   Arrays arrays(format);
@@ -197,7 +242,9 @@ VtuGrid piece(const VtuGrid& grid, Eigen::Index first, Eigen::Index end) {
   VtuGrid out;
   const Eigen::Index cells = end - first, k = grid.cells.rows();
   const auto nodes_of = [&](Eigen::Index c) {
-    return grid.nodes_per_cell.empty() ? static_cast<int>(k) : grid.nodes_per_cell[static_cast<std::size_t>(c)];
+    const auto j = static_cast<std::size_t>(c);
+    if (!grid.nodes_per_cell.empty()) return grid.nodes_per_cell[j];
+    return grid.types.empty() ? static_cast<int>(k) : vtk_cell_nodes(grid.types[j]);
   };
   std::vector<int> local(static_cast<std::size_t>(grid.points.cols()), -1);
   for (Eigen::Index c = first; c < end; ++c)
@@ -211,6 +258,7 @@ VtuGrid piece(const VtuGrid& grid, Eigen::Index first, Eigen::Index end) {
   for (Eigen::Index c = first; c < end; ++c) {
     for (int a = 0; a < nodes_of(c); ++a) out.cells(a, c - first) = local[static_cast<std::size_t>(grid.cells(a, c))];
     if (!grid.nodes_per_cell.empty()) out.nodes_per_cell.push_back(nodes_of(c));
+    if (!grid.types.empty()) out.types.push_back(grid.types[static_cast<std::size_t>(c)]);
   }
   for (const VtuField& f : grid.point_data) {
     VtuField g{f.name, f.components, {}, f.component_names};

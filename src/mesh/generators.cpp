@@ -3,7 +3,8 @@
 // structured bare surfaces (square, segment) for rigid bodies. The
 // geometry is built in coordinates normalised by the largest length
 // parameter, so that OpenCASCADE's and Gmsh's absolute tolerances act the
-// same at every scale; the points are scaled back at the end.
+// same at every scale; the points are scaled back at the end. Every
+// generator with cells makes linear or quadratic ones (parameter `order`).
 #include "mesh/generators.hpp"
 
 #include <fmt/format.h>
@@ -299,8 +300,8 @@ Params checked_parameters(const std::string& kind, const GeneratorInfo& info, co
       throw InputError(fmt::format("generator '{}': missing parameter '{}' ({} [{}])", kind, p.name, p.doc, p.unit));
     const double value = it == given.end() ? p.default_value : it->second;
     if (!std::isfinite(value) || (p.unit == "m" && value <= 0.0))
-      throw InputError(
-          fmt::format("generator '{}': parameter '{}' = {:g} (expected a positive length [m])", kind, p.name, value));
+      throw InputError(fmt::format("generator '{}': parameter '{}' = {:g} (expected {})", kind, p.name, value,
+                                   p.unit == "m" ? "a positive length [m]" : "a finite number"));
     out[p.name] = value;
   }
   return out;
@@ -321,6 +322,27 @@ void check_shape(const std::string& kind, const Generator& generator, const Para
                     kind, p.at("size"), cells, kMaxCells));
 }
 
+/// The parameter every generator takes, added to each in the catalog.
+GeneratorParameter order_parameter() {
+  return {"order", "",
+          "element order: 1 (3-node triangles, 4-node tetrahedra) or 2 (6-node triangles, 10-node tetrahedra, "
+          "midside nodes on the curved boundary); a bare surface is order 1 only",
+          false, 1.0};
+}
+
+/// The element order asked for, checked: 1 or 2, and 1 for a bare surface
+/// (its facets are straight, and rigid masters stay linear).
+int checked_order(const std::string& kind, const Generator& generator, const Params& p) {
+  const double order = p.at("order");
+  if (order != 1.0 && order != 2.0)
+    throw InputError(fmt::format("generator '{}': parameter 'order' = {:g} (expected 1 or 2)", kind, order));
+  if (generator.surface && order != 1.0)
+    throw InputError(fmt::format(
+        "generator '{}': order = 2, but it makes a bare surface of straight facets without cells (expected order = 1)",
+        kind));
+  return static_cast<int>(order);
+}
+
 /// Divides every length by the largest one (returned).
 double normalise(const GeneratorInfo& info, Params& p) {
   double scale = 0.0;
@@ -336,7 +358,10 @@ double normalise(const GeneratorInfo& info, Params& p) {
 const std::map<std::string, GeneratorInfo>& generator_catalog() {
   static const std::map<std::string, GeneratorInfo> catalog = [] {
     std::map<std::string, GeneratorInfo> out;
-    for (const auto& [name, generator] : generators()) out[name] = generator.info;
+    for (const auto& [name, generator] : generators()) {
+      out[name] = generator.info;
+      out[name].parameters.push_back(order_parameter());
+    }
     return out;
   }();
   return catalog;
@@ -344,12 +369,14 @@ const std::map<std::string, GeneratorInfo>& generator_catalog() {
 
 Mesh generate_mesh(const std::string& kind, const std::map<std::string, double>& params) {
   const Generator& generator = find_generator(kind);
-  Params p = checked_parameters(kind, generator.info, params);
+  Params p = checked_parameters(kind, generator_catalog().at(kind), params);
+  const int order = checked_order(kind, generator, p);
   check_shape(kind, generator, p);
   if (generator.surface) return generator.surface(p);
   detail::GmshRecipe recipe;
   recipe.name = kind;
   recipe.dim = generator.info.dim;
+  recipe.order = order;
   recipe.scale = normalise(generator.info, p);
   recipe.size = p.at("size");
   recipe.build = [&generator, p] { generator.build(p); };

@@ -26,13 +26,18 @@ struct GeneratorInfo {
 };
 
 /// All generators by name (box, cylinder, hollow_cylinder, spherical_shell,
-/// plate, rectangle, disc, annulus, ...).
+/// plate, rectangle, disc, annulus, ...). Each lists its own parameters and
+/// then `order` (not required, default 1), which every generator takes: 1
+/// linear cells, 2 quadratic ones (mesh.hpp) whose boundary midside nodes
+/// lie on the true curved surface; the bare surfaces (square, segment)
+/// take order 1 only.
 const std::map<std::string, GeneratorInfo>& generator_catalog();
 
 /// Makes the mesh. Every mesh has the cell group "body", the facet group
 /// "boundary" (all boundary facets, outward oriented) and named faces listed
 /// in the generator's doc. Throws InputError on an unknown generator, an
-/// unknown or missing parameter, or a non-positive size.
+/// unknown or missing parameter, a non-positive size, or an order other
+/// than 1 or 2 (or 2 for a bare surface).
 Mesh generate_mesh(const std::string& kind, const std::map<std::string, double>& params);
 
 }  // namespace conserve::mesh

@@ -14,6 +14,7 @@
 #endif
 
 #include "core/error.hpp"
+#include "mesh/msh_sections.hpp"
 #include "mesh/topology.hpp"
 
 namespace conserve::mesh::detail {
@@ -26,9 +27,6 @@ std::mutex& gmsh_mutex() {
   static std::mutex mutex;
   return mutex;
 }
-
-int cell_type(int dim) { return dim == 2 ? 2 : 4; }   // 3-node triangle, 4-node tet
-int facet_type(int dim) { return dim == 2 ? 1 : 2; }  // 2-node line, 3-node triangle
 
 EntityShape shape_of(int dim, int tag) {
   EntityShape s;
@@ -55,10 +53,18 @@ void add_physical_groups(const GmshRecipe& recipe) {
     gmsh::model::setPhysicalName(recipe.dim - 1, gmsh::model::addPhysicalGroup(recipe.dim - 1, tags), name);
 }
 
-void set_mesh_options(double size) {
+/// For order 2, Gmsh puts the midside nodes on the geometry
+/// (SecondOrderLinear = 0: the true curved boundary, not the chord) and
+/// then moves the interior ones of cells this folds (HighOrderOptimize = 2:
+/// elastic analogy and optimisation; boundary nodes stay on the geometry).
+void set_mesh_options(double size, int order) {
   gmsh::option::setNumber("Mesh.MeshSizeMax", size);
   gmsh::option::setNumber("Mesh.MeshSizeMin", 0.1 * size);
-  gmsh::option::setNumber("Mesh.ElementOrder", 1);
+  gmsh::option::setNumber("Mesh.ElementOrder", order);
+  if (order == 2) {
+    gmsh::option::setNumber("Mesh.SecondOrderLinear", 0);
+    gmsh::option::setNumber("Mesh.HighOrderOptimize", 2);
+  }
 }
 
 /// Node tags of the elements of type `type` on entity (dim, tag) (tag -1: all).
@@ -77,8 +83,8 @@ Mesh cells_and_points(const GmshRecipe& recipe, std::unordered_map<std::size_t, 
   Tags tags;
   std::vector<double> xyz, parametric;
   gmsh::model::mesh::getNodes(tags, xyz, parametric, -1, -1, false, false);
-  const Tags cell_nodes = element_nodes(recipe.dim, -1, cell_type(recipe.dim));
-  for (const std::size_t tag : cell_nodes) index[tag] = -1;
+  const Tags tags_of_cells = element_nodes(recipe.dim, -1, cell_type(recipe.dim, recipe.order));
+  for (const std::size_t tag : tags_of_cells) index[tag] = -1;
   Mesh mesh;
   mesh.dim = recipe.dim;
   mesh.points.resize(recipe.dim, static_cast<Eigen::Index>(index.size()));
@@ -90,29 +96,34 @@ Mesh cells_and_points(const GmshRecipe& recipe, std::unordered_map<std::size_t, 
     it->second = next++;
   }
   if (next != static_cast<int>(index.size())) throw Error(recipe.name + ": Gmsh returned elements without nodes");
-  const Eigen::Index n_cells = static_cast<Eigen::Index>(cell_nodes.size()) / (recipe.dim + 1);
-  mesh.cells.resize(recipe.dim + 1, n_cells);
+  const int per = cell_nodes(recipe.dim, recipe.order);
+  const Eigen::Index n_cells = static_cast<Eigen::Index>(tags_of_cells.size()) / per;
+  mesh.cells.resize(per, n_cells);
   for (Eigen::Index c = 0; c < n_cells; ++c)
-    for (int i = 0; i <= recipe.dim; ++i)
-      mesh.cells(i, c) = index.at(cell_nodes[static_cast<std::size_t>(c * (recipe.dim + 1) + i)]);
+    for (int i = 0; i < per; ++i) mesh.cells(i, c) = index.at(tags_of_cells[static_cast<std::size_t>(c * per + i)]);
   return mesh;
 }
 
 /// Flips negatively oriented cells (Gmsh's 2D triangles follow the surface
-/// normal); a degenerate cell is an error.
+/// normal); a degenerate or (quadratic) folded cell is an error.
 void orient_cells(const std::string& name, Mesh& mesh) {
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const CellOrientation o = cell_orientation(mesh, c);
-    if (o == CellOrientation::inverted) std::swap(mesh.cells(1, c), mesh.cells(2, c));
+    if (o == CellOrientation::inverted) flip_cell(mesh, c);  // with its midside nodes
     if (o == CellOrientation::degenerate)
       throw InputError(fmt::format("generator '{}': Gmsh made a degenerate cell (expected a smaller size)", name));
+    if (is_folded(mesh, c))
+      throw InputError(
+          fmt::format("generator '{}': Gmsh made a folded quadratic cell (Jacobian determinant {:g} at a vertex or the "
+                      "centroid; expected a smaller size)",
+                      name, min_jacobian_determinant(mesh, c)));
   }
 }
 
 /// The facet groups Gmsh's physical groups hold, each facet oriented like
 /// the same facet of "boundary" (outward).
 void add_named_groups(const GmshRecipe& recipe, const std::unordered_map<std::size_t, int>& index, Mesh& mesh) {
-  const int dim = recipe.dim;
+  const int dim = recipe.dim, rows = facet_nodes(dim, recipe.order);
   gmsh::vectorpair groups;
   gmsh::model::getPhysicalGroups(groups, dim - 1);
   for (const auto& [d, physical] : groups) {
@@ -121,9 +132,10 @@ void add_named_groups(const GmshRecipe& recipe, const std::unordered_map<std::si
     std::vector<int> entities, nodes;
     gmsh::model::getEntitiesForPhysicalGroup(d, physical, entities);
     for (const int entity : entities)
-      for (const std::size_t tag : element_nodes(d, entity, facet_type(dim))) nodes.push_back(index.at(tag));
+      for (const std::size_t tag : element_nodes(d, entity, facet_type(dim, recipe.order)))
+        nodes.push_back(index.at(tag));
     Eigen::MatrixXi facets =
-        Eigen::Map<const Eigen::MatrixXi>(nodes.data(), dim, static_cast<Eigen::Index>(nodes.size()) / dim);
+        Eigen::Map<const Eigen::MatrixXi>(nodes.data(), rows, static_cast<Eigen::Index>(nodes.size()) / rows);
     if (orient_outward(facets, mesh.facet_groups.at("boundary").facets) != 0)
       throw Error(fmt::format("{}: a facet of group '{}' is not on the boundary", recipe.name, name));
     mesh.facet_groups[name].facets = std::move(facets);
@@ -135,7 +147,7 @@ Mesh generate_locked(const GmshRecipe& recipe) {
   recipe.build();
   gmsh::model::occ::synchronize();
   add_physical_groups(recipe);
-  set_mesh_options(recipe.size);
+  set_mesh_options(recipe.size, recipe.order);
   gmsh::model::mesh::generate(recipe.dim);
   std::unordered_map<std::size_t, int> index;
   Mesh mesh = cells_and_points(recipe, index);

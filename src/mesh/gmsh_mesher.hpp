@@ -27,6 +27,10 @@ struct GmshRecipe {
   std::function<std::string(const EntityShape&)> classify;
   double size = 1.0;   ///< target element size, in model coordinates
   double scale = 1.0;  ///< model coordinates × scale = mesh coordinates [m]
+  /// Element order: 1 (3-node triangles, 4-node tets) or 2 (6-node
+  /// triangles, 10-node tets whose boundary midside nodes lie on the
+  /// geometry, interior ones moved where needed to keep det J > 0).
+  int order = 1;
 };
 
 /// One use of Gmsh, which is a global singleton: holds a process-wide lock
@@ -49,8 +53,8 @@ class GmshSession {
 
 /// Meshes the recipe (serialised: Gmsh is a global singleton). The result has
 /// cell group "body", facet group "boundary" and the named facet groups, all
-/// facets outward oriented and all cells positively oriented. Throws
-/// InputError if Gmsh fails.
+/// facets outward oriented and all cells positively oriented (quadratic
+/// ones also not folded, topology.hpp). Throws InputError if Gmsh fails.
 Mesh mesh_with_gmsh(const GmshRecipe& recipe);
 
 }  // namespace conserve::mesh::detail

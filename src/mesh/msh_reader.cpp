@@ -1,6 +1,7 @@
 // Gmsh MSH 4.1 reader: the section loop (msh_sections.cpp parses each
 // section) and the assembly of the Mesh from what the sections hold: cells,
-// or for a rigid body's file without cells, a bare surface.
+// linear or quadratic (every node kept, in Gmsh's order), or for a rigid
+// body's file without cells, a bare surface.
 #include "mesh/msh_reader.hpp"
 
 #include <fmt/format.h>
@@ -65,11 +66,16 @@ int node_position(const MshCursor& in, const MshContent& content, const RawEleme
   return it->second;
 }
 
-/// New index of every node in file order (-1: used by no cell).
+/// The file's order (1 if it has neither cells nor facets).
+int order_of(const MshContent& content) { return content.order == 0 ? 1 : content.order; }
+
+/// New index of every node in file order (-1: used by no cell); a
+/// quadratic cell's midside nodes are kept as its vertices are.
 std::vector<int> number_kept_nodes(const MshCursor& in, const MshContent& content) {
   std::vector<bool> used(content.node_tags.size(), false);
+  const int nodes = cell_nodes(content.dim, order_of(content));
   for (const RawElement& cell : content.cells)
-    for (int i = 0; i <= content.dim; ++i) {
+    for (int i = 0; i < nodes; ++i) {
       const int position = node_position(in, content, cell, cell.nodes[static_cast<std::size_t>(i)]);
       used[static_cast<std::size_t>(position)] = true;
     }
@@ -98,9 +104,10 @@ Eigen::MatrixXd kept_points(const MshCursor& in, const MshContent& content, cons
 }
 
 Eigen::MatrixXi kept_cells(const MshCursor& in, const MshContent& content, const std::vector<int>& new_index) {
-  Eigen::MatrixXi cells(content.dim + 1, static_cast<Eigen::Index>(content.cells.size()));
+  const int nodes = cell_nodes(content.dim, order_of(content));
+  Eigen::MatrixXi cells(nodes, static_cast<Eigen::Index>(content.cells.size()));
   for (std::size_t c = 0; c < content.cells.size(); ++c)
-    for (int i = 0; i <= content.dim; ++i) {
+    for (int i = 0; i < nodes; ++i) {
       const RawElement& cell = content.cells[c];
       const int position = node_position(in, content, cell, cell.nodes[static_cast<std::size_t>(i)]);
       cells(i, static_cast<Eigen::Index>(c)) = new_index[static_cast<std::size_t>(position)];
@@ -108,14 +115,21 @@ Eigen::MatrixXi kept_cells(const MshCursor& in, const MshContent& content, const
   return cells;
 }
 
+/// Each cell's vertex simplex is positive and, for a quadratic cell, so is
+/// its map's Jacobian determinant at the vertices and the centroid.
 void check_cells(const MshCursor& in, const MshContent& content, const Mesh& mesh) {
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const CellOrientation o = cell_orientation(mesh, c);
-    if (o == CellOrientation::positive) continue;
     const RawElement& cell = content.cells[static_cast<std::size_t>(c)];
-    in.fail(cell.offset, fmt::format("element {} is {} (signed {} {:g}; expected a positive one)", cell.tag,
-                                     o == CellOrientation::inverted ? "inverted" : "degenerate",
-                                     mesh.dim == 3 ? "volume" : "area", signed_volume(mesh, c)));
+    if (o != CellOrientation::positive)
+      in.fail(cell.offset, fmt::format("element {} is {} (signed {} {:g}; expected a positive one)", cell.tag,
+                                       o == CellOrientation::inverted ? "inverted" : "degenerate",
+                                       mesh.dim == 3 ? "volume" : "area", vertex_volume(mesh, c)));
+    if (is_folded(mesh, c))
+      in.fail(cell.offset, fmt::format("element {} is folded: the Jacobian determinant of its quadratic map is {:g} "
+                                       "at a vertex or the centroid (expected positive: is a midside node far "
+                                       "off its edge?)",
+                                       cell.tag, min_jacobian_determinant(mesh, c)));
   }
 }
 
@@ -141,10 +155,11 @@ void add_cell_groups(const MshContent& content, Mesh& mesh) {
 }
 
 void add_facet_groups(const MshCursor& in, const MshContent& content, const std::vector<int>& new_index, Mesh& mesh) {
+  const int nodes = facet_nodes(content.dim, order_of(content));
   std::map<std::string, std::vector<int>> columns;
   for (const RawElement& facet : content.facets) {
     const std::vector<std::string> names = group_names(content, content.dim - 1, facet.entity);
-    for (int i = 0; i < content.dim && !names.empty(); ++i) {
+    for (int i = 0; i < nodes && !names.empty(); ++i) {
       const std::uint64_t tag = facet.nodes[static_cast<std::size_t>(i)];
       const int index = new_index[static_cast<std::size_t>(node_position(in, content, facet, tag))];
       if (index < 0)
@@ -154,15 +169,18 @@ void add_facet_groups(const MshCursor& in, const MshContent& content, const std:
     }
   }
   const Eigen::MatrixXi boundary = columns.empty() ? Eigen::MatrixXi() : boundary_facets(mesh);
-  for (const auto& [name, nodes] : columns) {
+  for (const auto& [name, group_nodes] : columns) {
     Eigen::MatrixXi& facets = mesh.facet_groups[name].facets;
-    facets = Eigen::Map<const Eigen::MatrixXi>(nodes.data(), content.dim,
-                                               static_cast<Eigen::Index>(nodes.size()) / content.dim);
+    facets = Eigen::Map<const Eigen::MatrixXi>(group_nodes.data(), nodes,
+                                               static_cast<Eigen::Index>(group_nodes.size()) / nodes);
     orient_outward(facets, boundary);  // facets inside the body keep the file's order
   }
 }
 
-const char* facet_name(int dim) { return dim == 3 ? "3-node triangles" : "2-node lines"; }
+/// "3-node triangles", "3-node lines", ...: the facets of that order, plural.
+std::string facet_name(int dim, int order) {
+  return std::string(detail::find_element_type(detail::facet_type(dim, order))->name) + "s";
+}
 
 /// The surface's facets, its nodes numbered in the order the facets first
 /// use them; `tags` gets each new node's tag in the file.
@@ -212,13 +230,16 @@ void check_surface(const MshCursor& in, const MshContent& content, const Mesh& m
                                     : "each node of two lines to end one and start the other"));
 }
 
-/// A file without cells read as a bare surface (read_msh with BareSurface::accepted).
+/// A file without cells read as a bare surface (read_msh with
+/// BareSurface::accepted); its facets must be linear.
 Mesh assemble_surface(const MshCursor& in, const MshContent& content) {
-  if (content.other_facet_type != 0) {
-    const detail::ElementType& type = *detail::find_element_type(content.other_facet_type);
-    in.fail(content.other_facet_offset, fmt::format("element type {} ({}) in a surface mesh: conserve needs {}",
-                                                    type.number, type.name, facet_name(content.dim)));
-  }
+  const auto refuse = [&](int number, std::size_t at) {
+    const detail::ElementType& type = *detail::find_element_type(number);
+    in.fail(at, fmt::format("element type {} ({}) in a surface mesh: conserve needs {}", type.number, type.name,
+                            facet_name(content.dim, 1)));
+  };
+  if (content.other_facet_type != 0) refuse(content.other_facet_type, content.other_facet_offset);
+  if (content.order == 2) refuse(content.order_type, content.order_offset);
   std::vector<int> new_index;
   std::vector<std::uint64_t> tags;
   Eigen::MatrixXi facets = surface_facets(in, content, new_index, tags);
@@ -243,7 +264,7 @@ Mesh assemble(const MshCursor& in, const MshContent& content, const std::string&
         content.dim == 3 ? "4-node tetrahedra" : "3-node triangles", content.dim == 3 ? 4 : 2, content.dim,
         content.facets.empty() ? std::string()
                                : fmt::format("; its {} {} make a bare surface, which only a rigid body may be",
-                                             content.facets.size(), facet_name(content.dim))));
+                                             content.facets.size(), facet_name(content.dim, order_of(content)))));
   const std::vector<int> new_index = number_kept_nodes(in, content);
   Mesh mesh;
   mesh.dim = content.dim;

@@ -27,9 +27,6 @@ constexpr ElementType kElementTypes[] = {
     {31, 3, 56, "56-node tetrahedron"}, {92, 3, 64, "64-node hexahedron"},  {93, 3, 125, "125-node hexahedron"},
 };
 
-int cell_type(int dim) { return dim == 2 ? 2 : 4; }
-int facet_type(int dim) { return dim == 2 ? 1 : 2; }
-
 int read_dim(MshCursor& in, std::string_view what) {
   const std::size_t at = in.value_start();
   const int dim = in.read_int(what);
@@ -84,19 +81,49 @@ void read_node_block(MshCursor& in, MshContent& content, std::uint64_t& total) {
 
 enum class Role { cell, facet, skip };
 
+/// 1 or 2 if `type` is the cell or facet type of that order in a mesh of
+/// dimension `dim`, else 0.
+int simplex_order(const ElementType& type, int dim) {
+  for (const int order : {1, 2})
+    if (type.number == cell_type(dim, order) || type.number == facet_type(dim, order)) return order;
+  return 0;
+}
+
 Role element_role(MshCursor& in, std::size_t at, const ElementType& type, int entity_dim, int dim) {
   if (type.dim != entity_dim)
     in.fail(at, fmt::format("element type {} ({}) in an entity of dimension {} (expected dimension {})", type.number,
                             type.name, entity_dim, type.dim));
-  const ElementType& cell = *find_element_type(cell_type(dim));
+  const ElementType& cell = *find_element_type(cell_type(dim, 1));
   if (type.dim > dim)
     in.fail(at, fmt::format("element type {} ({}) in a {}D mesh (expected {}; is the mesh {}D?)", type.number,
                             type.name, dim, cell.name, type.dim));
-  if (type.dim == dim && type.number != cell.number)
+  const int order = simplex_order(type, dim);
+  if (type.dim == dim && order == 0)
     in.fail(at, fmt::format("unsupported element type {} ({}): conserve needs {}", type.number, type.name,
-                            dim == 3 ? "4-node tetrahedra" : "3-node triangles"));
+                            dim == 3 ? "4-node tetrahedra (type 4) or 10-node ones (type 11)"
+                                     : "3-node triangles (type 2) or 6-node ones (type 9)"));
   if (type.dim == dim) return Role::cell;
-  return type.number == facet_type(dim) ? Role::facet : Role::skip;
+  return order != 0 ? Role::facet : Role::skip;
+}
+
+/// The first block of cells or facets sets the file's order; a block of
+/// the other order is refused (a mesh has one order).
+void check_order(MshCursor& in, MshContent& content, std::size_t at, const ElementType& type, std::uint64_t n) {
+  const int order = simplex_order(type, content.dim);
+  if (order == 0 || n == 0) return;
+  if (content.order == 0) {
+    content.order = order;
+    content.order_type = type.number;
+    content.order_offset = at;
+    return;
+  }
+  if (order == content.order) return;
+  const ElementType& first = *find_element_type(content.order_type);
+  const auto kind = [](int o) { return o == 1 ? "linear" : "quadratic"; };
+  in.fail(at, fmt::format("element type {} ({}) is {} but the block at {} holds type {} ({}), which is {} "
+                          "(expected one order in a file: linear cells and facets, or quadratic ones)",
+                          type.number, type.name, kind(order), in.location(content.order_offset), first.number,
+                          first.name, kind(content.order)));
 }
 
 void read_element_block(MshCursor& in, MshContent& content, std::uint64_t& total) {
@@ -109,12 +136,13 @@ void read_element_block(MshCursor& in, MshContent& content, std::uint64_t& total
   const Role role = element_role(in, at, *type, entity_dim, content.dim);
   const auto nn = static_cast<std::size_t>(type->num_nodes);
   const std::uint64_t n = in.read_count("number of elements in block", 1 + nn, 8 * (1 + nn));
+  check_order(in, content, at, *type, n);
   for (std::uint64_t i = 0; i < n; ++i) {
     RawElement element{.tag = 0, .entity = entity, .offset = in.value_start(), .nodes = {}};
     element.tag = in.read_size("element tag");
     for (std::size_t k = 0; k < nn; ++k) {
       const std::uint64_t node = in.read_size("node tag");
-      if (role != Role::skip) element.nodes[k] = node;
+      if (role != Role::skip) element.nodes[k] = node;  // a kept type has at most 10 nodes
     }
     if (role == Role::cell) content.cells.push_back(element);
     if (role == Role::facet) content.facets.push_back(element);
@@ -127,6 +155,16 @@ void read_element_block(MshCursor& in, MshContent& content, std::uint64_t& total
 }
 
 }  // namespace
+
+int cell_type(int dim, int order) {
+  if (dim == 2) return order == 2 ? 9 : 2;
+  return order == 2 ? 11 : 4;
+}
+
+int facet_type(int dim, int order) {
+  if (dim == 2) return order == 2 ? 8 : 1;
+  return order == 2 ? 9 : 2;
+}
 
 const ElementType* find_element_type(int number) {
   for (const ElementType& type : kElementTypes)

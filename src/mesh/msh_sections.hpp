@@ -25,12 +25,21 @@ struct ElementType {
 /// The type with Gmsh number `number`, or nullptr if we do not know it.
 const ElementType* find_element_type(int number);
 
+/// The Gmsh types of the cells and of the facets of a mesh of dimension
+/// `dim` and order 1 or 2: 2D cells 2 / 9 (3- / 6-node triangles), facets
+/// 1 / 8 (2- / 3-node lines); 3D cells 4 / 11 (4- / 10-node tetrahedra),
+/// facets 2 / 9 (3- / 6-node triangles).
+int cell_type(int dim, int order);
+int facet_type(int dim, int order);
+
 /// One element we keep (a cell, or a facet that may be in a named group).
 struct RawElement {
   std::uint64_t tag = 0;
-  int entity = 0;                        ///< tag of the entity it belongs to
-  std::size_t offset = 0;                ///< where it is in the file (for messages)
-  std::array<std::uint64_t, 4> nodes{};  ///< node tags (dim+1 for cells, dim for facets)
+  int entity = 0;          ///< tag of the entity it belongs to
+  std::size_t offset = 0;  ///< where it is in the file (for messages)
+  /// Node tags: cell_nodes(dim, order) for cells, facet_nodes(dim, order)
+  /// for facets (at most 10, a 10-node tetrahedron's).
+  std::array<std::uint64_t, 10> nodes{};
 };
 
 /// What the sections of a file hold.
@@ -49,6 +58,13 @@ struct MshContent {
   std::unordered_map<std::uint64_t, int> node_index;  ///< tag → position in node_tags
   std::vector<RawElement> cells;                      ///< elements of dimension dim
   std::vector<RawElement> facets;                     ///< simplices of dimension dim-1
+  /// Order of the cells and facets (1 linear, 2 quadratic; 0 while the file
+  /// has none): set by the first block of them, which every later one must
+  /// match; `order_type` is that block's element type, `order_offset` where
+  /// it starts.
+  int order = 0;
+  int order_type = 0;
+  std::size_t order_offset = 0;
   /// The first element of dimension dim-1 that is not a simplex (e.g. a
   /// quadrangle in 3D): its type (0: none) and where its block starts.
   int other_facet_type = 0;

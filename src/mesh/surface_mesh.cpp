@@ -78,7 +78,16 @@ Mesh bare_surface(int dim, Eigen::MatrixXd points, Eigen::MatrixXi facets) {
 }
 
 void flip_normals(Mesh& mesh) {
-  for (auto& [name, group] : mesh.facet_groups) group.facets.bottomRows(2).colwise().reverseInPlace();
+  for (auto& [name, group] : mesh.facet_groups) {
+    Eigen::MatrixXi& facets = group.facets;
+    if (facets.rows() < 2) continue;
+    if (mesh.dim == 2) {
+      facets.row(0).swap(facets.row(1));  // a line3's middle (row 2) stays
+      continue;
+    }
+    facets.row(1).swap(facets.row(2));
+    if (facets.rows() == 6) facets.row(3).swap(facets.row(5));  // tri6: (0,1) ↔ (2,0)
+  }
 }
 
 std::optional<OrientationClash> orientation_clash(const Eigen::MatrixXi& facets) {

@@ -18,8 +18,9 @@ namespace conserve::mesh {
 /// "surface" and "boundary" both holding every facet.
 Mesh bare_surface(int dim, Eigen::MatrixXd points, Eigen::MatrixXi facets);
 
-/// Reverses every facet of every facet group (3D: swaps its last two
-/// nodes, 2D: its two nodes): the normals then point the other way.
+/// Reverses every facet of every facet group (3D: swaps vertices 1 and 2,
+/// and of a 6-node triangle the midside nodes 3 and 5; 2D: swaps the two
+/// ends): the normals then point the other way.
 void flip_normals(Mesh& mesh);
 
 /// Two facets whose shared side runs the same way in both, which a

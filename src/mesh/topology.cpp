@@ -18,8 +18,50 @@ namespace {
 /// oriented simplex: facet k is opposite node k.
 constexpr int kTetFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 constexpr int kTriEdges[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+/// The midside node of each edge of a quadratic simplex, {node, a, b}, in
+/// Gmsh's order (mesh.hpp).
+constexpr int kTri6Midsides[3][3] = {{3, 0, 1}, {4, 1, 2}, {5, 2, 0}};
+constexpr int kTet10Midsides[6][3] = {{4, 0, 1}, {5, 1, 2}, {6, 2, 0}, {7, 3, 0}, {8, 3, 2}, {9, 3, 1}};
+/// The same facets of a quadratic simplex (tet10 faces as tri6, tri6 edges
+/// as line3): the vertices of kTetFaces / kTriEdges, then the midside node
+/// of each edge of the facet in its vertex order, (v0,v1), (v1,v2), (v2,v0);
+/// e.g. face 0 = (1, 2, 3): 5 = (1,2), 8 = (3,2), 9 = (3,1).
+constexpr int kTet10Faces[4][6] = {{1, 2, 3, 5, 8, 9}, {0, 3, 2, 7, 8, 6}, {0, 1, 3, 4, 9, 7}, {0, 2, 1, 6, 5, 4}};
+constexpr int kTri6Edges[3][3] = {{1, 2, 4}, {2, 0, 5}, {0, 1, 3}};
 
-using FacetKey = std::array<int, 3>;
+/// The midside node of edge (a, b) of a tet10 (tri6: the same for a, b < 3), or -1.
+constexpr int midside_of(int a, int b) {
+  for (const auto& e : kTet10Midsides)
+    if ((e[1] == a && e[2] == b) || (e[1] == b && e[2] == a)) return e[0];
+  return -1;
+}
+
+/// The quadratic facet tables hold the linear ones' vertices, then the
+/// midside node of each facet edge in the facet's vertex order.
+constexpr bool quadratic_facets_match() {
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i)
+      if (kTet10Faces[k][i] != kTetFaces[k][i] ||
+          kTet10Faces[k][3 + i] != midside_of(kTetFaces[k][i], kTetFaces[k][(i + 1) % 3]))
+        return false;
+  for (int k = 0; k < 3; ++k) {
+    if (kTri6Edges[k][0] != kTriEdges[k][0] || kTri6Edges[k][1] != kTriEdges[k][1]) return false;
+    bool found = false;
+    for (const auto& e : kTri6Midsides)
+      found = found || (e[0] == kTri6Edges[k][2] && ((e[1] == kTriEdges[k][0] && e[2] == kTriEdges[k][1]) ||
+                                                     (e[1] == kTriEdges[k][1] && e[2] == kTriEdges[k][0])));
+    if (!found) return false;
+  }
+  for (int e = 0; e < 3; ++e)  // tri6's midsides are tet10's first three
+    if (kTri6Midsides[e][0] + 1 != kTet10Midsides[e][0] || kTri6Midsides[e][1] != kTet10Midsides[e][1] ||
+        kTri6Midsides[e][2] != kTet10Midsides[e][2])
+      return false;
+  return true;
+}
+static_assert(quadratic_facets_match(), "quadratic facet tables disagree with the linear ones");
+
+using FacetKey = std::array<int, 3>;    ///< a facet's vertices, sorted (-1: unused)
+using FacetNodes = std::array<int, 6>;  ///< a facet's nodes, outward order (-1: unused)
 
 struct FacetKeyHash {
   std::size_t operator()(const FacetKey& k) const noexcept {
@@ -29,20 +71,30 @@ struct FacetKeyHash {
   }
 };
 
-/// Facet `k` of cell `c`, outward oriented (dim entries used).
-FacetKey oriented_facet(const Mesh& mesh, int c, int k) {
-  FacetKey f{-1, -1, -1};
-  for (int i = 0; i < mesh.dim; ++i) f[i] = mesh.cells(mesh.dim == 3 ? kTetFaces[k][i] : kTriEdges[k][i], c);
+/// Local node `i` of the outward facet `k` of a cell of dimension `dim`.
+int facet_local(int dim, int order, int k, int i) {
+  if (dim == 3) return order == 2 ? kTet10Faces[k][i] : kTetFaces[k][i];
+  return order == 2 ? kTri6Edges[k][i] : kTriEdges[k][i];
+}
+
+/// Facet `k` of cell `c`, outward oriented (facet_nodes(dim, order) entries used).
+FacetNodes oriented_facet(const Mesh& mesh, int order, int c, int k) {
+  FacetNodes f{-1, -1, -1, -1, -1, -1};
+  for (int i = 0; i < facet_nodes(mesh.dim, order); ++i)
+    f[static_cast<std::size_t>(i)] = mesh.cells(facet_local(mesh.dim, order, k, i), c);
   return f;
 }
 
-/// The facet's first `dim` nodes in increasing order (unused entries stay -1).
-FacetKey sorted_key(FacetKey f, int dim) {
+/// The first `n` (2 or 3) entries of `f` in increasing order (unused entries stay -1).
+FacetKey sorted_key(FacetKey f, int n) {
   if (f[0] > f[1]) std::swap(f[0], f[1]);
-  if (dim == 3 && f[1] > f[2]) std::swap(f[1], f[2]);
-  if (dim == 3 && f[0] > f[1]) std::swap(f[0], f[1]);
+  if (n == 3 && f[1] > f[2]) std::swap(f[1], f[2]);
+  if (n == 3 && f[0] > f[1]) std::swap(f[0], f[1]);
   return f;
 }
+
+/// A facet's key: its `dim` vertices, sorted.
+FacetKey vertex_key(const FacetNodes& f, int dim) { return sorted_key({f[0], f[1], dim == 3 ? f[2] : -1}, dim); }
 
 double longest_edge(const Mesh& mesh, int cell) {
   double longest = 0.0;
@@ -50,6 +102,38 @@ double longest_edge(const Mesh& mesh, int cell) {
     for (int j = i + 1; j <= mesh.dim; ++j)
       longest = std::max(longest, (mesh.points.col(mesh.cells(i, cell)) - mesh.points.col(mesh.cells(j, cell))).norm());
   return longest;
+}
+
+/// Barycentric coordinates λ_0 … λ_dim of a point of the reference simplex
+/// (λ_0 = 1 − Σ ξ, λ_i = ξ_i; λ_3 unused in 2D).
+using Barycentric = std::array<double, 4>;
+
+/// det ∂x/∂ξ of quadratic cell `cell` at `l`. Gmsh's shape functions are
+/// N_a = λ_a (2 λ_a − 1) at vertex a and N_m = 4 λ_a λ_b at the midside node
+/// m of edge (a, b), so ∂x/∂λ_a = (4 λ_a − 1) x_a + Σ_{edges (a, b)} 4 λ_b x_m
+/// and ∂x/∂ξ_j = ∂x/∂λ_j − ∂x/∂λ_0. The nodes are taken relative to vertex 0
+/// (Σ_n ∂N_n/∂ξ = 0), which keeps the digits of a cell far from the origin.
+double jacobian_determinant(const Mesh& mesh, int cell, const Barycentric& l) {
+  const int dim = mesh.dim;
+  const auto x = [&](int local) {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    p.head(dim) = mesh.points.col(mesh.cells(local, cell)) - mesh.points.col(mesh.cells(0, cell));
+    return p;
+  };
+  Eigen::Matrix<double, 3, 4> g = Eigen::Matrix<double, 3, 4>::Zero();  // column a: ∂x/∂λ_a
+  for (int a = 0; a <= dim; ++a) g.col(a) = (4.0 * l[static_cast<std::size_t>(a)] - 1.0) * x(a);
+  const auto add_midside = [&](const int(&edge)[3]) {
+    const Eigen::Vector3d xm = x(edge[0]);
+    g.col(edge[1]) += 4.0 * l[static_cast<std::size_t>(edge[2])] * xm;
+    g.col(edge[2]) += 4.0 * l[static_cast<std::size_t>(edge[1])] * xm;
+  };
+  if (dim == 3)
+    for (const auto& edge : kTet10Midsides) add_midside(edge);
+  else
+    for (const auto& edge : kTri6Midsides) add_midside(edge);
+  Eigen::Matrix3d jacobian = Eigen::Matrix3d::Identity();  // 2D: the z column stays e_z
+  for (int j = 1; j <= dim; ++j) jacobian.col(j - 1) = g.col(j) - g.col(0);
+  return jacobian.determinant();
 }
 
 /// Keeps the columns of `facets` whose nodes all map to a new index, renumbered.
@@ -70,7 +154,7 @@ Eigen::MatrixXi restrict_facets(const Eigen::MatrixXi& facets, const std::vector
 std::vector<int> number_nodes_of(const Mesh& mesh, const std::vector<int>& cells) {
   std::vector<bool> used(static_cast<std::size_t>(mesh.num_nodes()), false);
   for (const int c : cells)
-    for (int i = 0; i <= mesh.dim; ++i) used[static_cast<std::size_t>(mesh.cells(i, c))] = true;
+    for (int i = 0; i < mesh.cells.rows(); ++i) used[static_cast<std::size_t>(mesh.cells(i, c))] = true;
   std::vector<int> new_index(used.size(), -1);
   int next = 0;
   for (std::size_t n = 0; n < used.size(); ++n)
@@ -107,10 +191,11 @@ std::vector<int> selected_cells(const Mesh& mesh, const std::string& group) {
 }  // namespace
 
 Eigen::MatrixXi boundary_facets(const Mesh& mesh) {
-  // Every cell's facets by their sorted nodes, sorted: a facet that comes
+  // Every cell's facets by their sorted vertices, sorted: a facet that comes
   // once is on the boundary (an interior one twice). A facet is named by
   // its use c·(dim+1) + k, and the boundary keeps the order of the uses.
-  const int dim = mesh.dim, per = dim + 1;
+  // A quadratic facet is keyed on its vertices and gets its midside nodes.
+  const int dim = mesh.dim, per = dim + 1, order = mesh.order();
   struct Use {
     FacetKey key;
     int use;
@@ -119,7 +204,7 @@ Eigen::MatrixXi boundary_facets(const Mesh& mesh) {
 #pragma omp parallel for schedule(static) if (mesh.num_cells() >= 65536)
   for (int c = 0; c < mesh.num_cells(); ++c)
     for (int k = 0; k < per; ++k)
-      uses[static_cast<std::size_t>(c) * per + k] = {sorted_key(oriented_facet(mesh, c, k), dim), c * per + k};
+      uses[static_cast<std::size_t>(c) * per + k] = {vertex_key(oriented_facet(mesh, order, c, k), dim), c * per + k};
   std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) { return a.key < b.key; });
   std::vector<int> once;
   for (std::size_t first = 0, last = 0; first < uses.size(); first = last) {
@@ -129,20 +214,26 @@ Eigen::MatrixXi boundary_facets(const Mesh& mesh) {
   }
   uses = {};
   std::sort(once.begin(), once.end());
-  Eigen::MatrixXi out(dim, static_cast<Eigen::Index>(once.size()));
+  const int rows = facet_nodes(dim, order);
+  Eigen::MatrixXi out(rows, static_cast<Eigen::Index>(once.size()));
   for (std::size_t f = 0; f < once.size(); ++f) {
-    const FacetKey facet = oriented_facet(mesh, once[f] / per, once[f] % per);
-    for (int i = 0; i < dim; ++i) out(i, static_cast<Eigen::Index>(f)) = facet[static_cast<std::size_t>(i)];
+    const FacetNodes facet = oriented_facet(mesh, order, once[f] / per, once[f] % per);
+    for (int i = 0; i < rows; ++i) out(i, static_cast<Eigen::Index>(f)) = facet[static_cast<std::size_t>(i)];
   }
   return out;
 }
 
 int orient_outward(Eigen::MatrixXi& facets, const Eigen::MatrixXi& boundary) {
-  const int dim = static_cast<int>(boundary.rows());
-  const auto key_of = [dim](const auto& column) {
+  if (facets.rows() != boundary.rows() && facets.cols() > 0)
+    throw std::invalid_argument("orient_outward: facets and boundary have different numbers of nodes");
+  // Keyed on the vertices: the first 3 rows of a tri6 (6 rows); all rows of
+  // a line2 (2), a tri3 (3) or a line3 (3: its two ends and its middle, a
+  // node no other facet has, so the sorted three name it as well).
+  const int keyed = boundary.rows() == 6 ? 3 : static_cast<int>(boundary.rows());
+  const auto key_of = [keyed](const auto& column) {
     FacetKey f{-1, -1, -1};
-    for (int i = 0; i < dim; ++i) f[static_cast<std::size_t>(i)] = column(i);
-    return sorted_key(f, dim);
+    for (int i = 0; i < keyed; ++i) f[static_cast<std::size_t>(i)] = column(i);
+    return sorted_key(f, keyed);
   };
   std::unordered_map<FacetKey, int, FacetKeyHash> column;
   column.reserve(static_cast<std::size_t>(boundary.cols()));
@@ -167,11 +258,11 @@ Mesh extract(const Mesh& mesh, const std::string& group) {
   for (int n = 0; n < mesh.num_nodes(); ++n)
     if (new_index[static_cast<std::size_t>(n)] >= 0)
       out.points.col(new_index[static_cast<std::size_t>(n)]) = mesh.points.col(n);
-  out.cells.resize(mesh.dim + 1, static_cast<Eigen::Index>(cells.size()));
+  out.cells.resize(mesh.cells.rows(), static_cast<Eigen::Index>(cells.size()));
   std::vector<int> new_cell(static_cast<std::size_t>(mesh.num_cells()), -1);
   for (std::size_t j = 0; j < cells.size(); ++j) {
     new_cell[static_cast<std::size_t>(cells[j])] = static_cast<int>(j);
-    for (int i = 0; i <= mesh.dim; ++i)
+    for (int i = 0; i < mesh.cells.rows(); ++i)
       out.cells(i, static_cast<Eigen::Index>(j)) = new_index[static_cast<std::size_t>(mesh.cells(i, cells[j]))];
   }
   out.cell_groups = restrict_cell_groups(mesh.cell_groups, new_cell);
@@ -184,9 +275,10 @@ Mesh extract(const Mesh& mesh, const std::string& group) {
 
 void node_graph(const Mesh& mesh, std::vector<int>& offsets, std::vector<int>& neighbours) {
   std::vector<std::vector<int>> adjacent(static_cast<std::size_t>(mesh.num_nodes()));
+  const auto nodes = static_cast<int>(mesh.cells.rows());
   for (int c = 0; c < mesh.num_cells(); ++c)
-    for (int a = 0; a <= mesh.dim; ++a)
-      for (int b = 0; b <= mesh.dim; ++b)
+    for (int a = 0; a < nodes; ++a)
+      for (int b = 0; b < nodes; ++b)
         if (a != b) adjacent[static_cast<std::size_t>(mesh.cells(a, c))].push_back(mesh.cells(b, c));
   offsets.assign(1, 0);
   neighbours.clear();
@@ -215,7 +307,8 @@ Mesh renumbered(const Mesh& mesh, const std::vector<int>& order) {
   std::vector<int> lowest(static_cast<std::size_t>(mesh.num_cells()));
   for (int c = 0; c < mesh.num_cells(); ++c) {
     int low = mesh.num_nodes();
-    for (int a = 0; a <= mesh.dim; ++a) low = std::min(low, new_index[static_cast<std::size_t>(mesh.cells(a, c))]);
+    for (int a = 0; a < mesh.cells.rows(); ++a)
+      low = std::min(low, new_index[static_cast<std::size_t>(mesh.cells(a, c))]);
     lowest[static_cast<std::size_t>(c)] = low;
   }
   std::vector<int> cell_order(lowest.size());
@@ -227,7 +320,7 @@ Mesh renumbered(const Mesh& mesh, const std::vector<int>& order) {
   out.cells.resize(mesh.cells.rows(), mesh.cells.cols());
   for (std::size_t j = 0; j < cell_order.size(); ++j) {
     new_cell[static_cast<std::size_t>(cell_order[j])] = static_cast<int>(j);
-    for (int a = 0; a <= mesh.dim; ++a)  // the local order, and so the orientation, is kept
+    for (int a = 0; a < mesh.cells.rows(); ++a)  // the local order, and so the orientation, is kept
       out.cells(a, static_cast<Eigen::Index>(j)) = new_index[static_cast<std::size_t>(mesh.cells(a, cell_order[j]))];
   }
   out.cell_groups = restrict_cell_groups(mesh.cell_groups, new_cell);
@@ -237,7 +330,7 @@ Mesh renumbered(const Mesh& mesh, const std::vector<int>& order) {
   return out;
 }
 
-double signed_volume(const Mesh& mesh, int cell) {
+double vertex_volume(const Mesh& mesh, int cell) {
   const auto p = [&](int i) { return mesh.points.col(mesh.cells(i, cell)); };
   if (mesh.dim == 2) {
     const Eigen::Vector2d a = p(1) - p(0), b = p(2) - p(0);
@@ -247,11 +340,61 @@ double signed_volume(const Mesh& mesh, int cell) {
   return a.dot(b.cross(c)) / 6.0;
 }
 
+double signed_volume(const Mesh& mesh, int cell) {
+  if (mesh.order() != 2) return vertex_volume(mesh, cell);
+  double sum = 0.0;
+  if (mesh.dim == 2) {  // 3 points (2/3, 1/6, 1/6) and permutations, weights 1/3: degree 2
+    for (int k = 0; k < 3; ++k) {
+      Barycentric l{1.0 / 6, 1.0 / 6, 1.0 / 6, 0.0};
+      l[static_cast<std::size_t>(k)] = 2.0 / 3;
+      sum += jacobian_determinant(mesh, cell, l) / 3.0;
+    }
+    return sum / 2.0;
+  }
+  // the centroid with weight -4/5 and (1/2, 1/6, 1/6, 1/6) and
+  // permutations with 9/20: degree 3
+  sum = -0.8 * jacobian_determinant(mesh, cell, {0.25, 0.25, 0.25, 0.25});
+  for (int k = 0; k < 4; ++k) {
+    Barycentric l{1.0 / 6, 1.0 / 6, 1.0 / 6, 1.0 / 6};
+    l[static_cast<std::size_t>(k)] = 0.5;
+    sum += 0.45 * jacobian_determinant(mesh, cell, l);
+  }
+  return sum / 6.0;
+}
+
 CellOrientation cell_orientation(const Mesh& mesh, int cell) {
-  const double volume = signed_volume(mesh, cell);
+  const double volume = vertex_volume(mesh, cell);
   const double h = longest_edge(mesh, cell);
   if (!(std::abs(volume) > 1e-12 * std::pow(h, mesh.dim))) return CellOrientation::degenerate;
   return volume > 0.0 ? CellOrientation::positive : CellOrientation::inverted;
+}
+
+double min_jacobian_determinant(const Mesh& mesh, int cell) {
+  if (mesh.order() != 2) return (mesh.dim == 3 ? 6.0 : 2.0) * vertex_volume(mesh, cell);
+  const double centre = 1.0 / (mesh.dim + 1);
+  double lowest = jacobian_determinant(mesh, cell, {centre, centre, centre, mesh.dim == 3 ? centre : 0.0});
+  for (int a = 0; a <= mesh.dim; ++a) {
+    Barycentric l{0.0, 0.0, 0.0, 0.0};
+    l[static_cast<std::size_t>(a)] = 1.0;
+    lowest = std::min(lowest, jacobian_determinant(mesh, cell, l));
+  }
+  return lowest;
+}
+
+bool is_folded(const Mesh& mesh, int cell) {
+  if (mesh.order() != 2) return false;
+  return !(min_jacobian_determinant(mesh, cell) > 1e-12 * std::pow(longest_edge(mesh, cell), mesh.dim));
+}
+
+void flip_cell(Mesh& mesh, int cell) {
+  std::swap(mesh.cells(1, cell), mesh.cells(2, cell));
+  if (mesh.order() != 2) return;
+  if (mesh.dim == 2) {
+    std::swap(mesh.cells(3, cell), mesh.cells(5, cell));
+    return;
+  }
+  std::swap(mesh.cells(4, cell), mesh.cells(6, cell));
+  std::swap(mesh.cells(8, cell), mesh.cells(9, cell));
 }
 
 double total_volume(const Mesh& mesh) {
@@ -263,9 +406,14 @@ double total_volume(const Mesh& mesh) {
 void check_orientation(const Mesh& mesh, const std::string& name) {
   for (int c = 0; c < mesh.num_cells(); ++c) {
     const CellOrientation o = cell_orientation(mesh, c);
-    if (o == CellOrientation::positive) continue;
-    throw InputError(fmt::format("{}: cell {} is {} (signed volume {:g})", name, c,
-                                 o == CellOrientation::inverted ? "inverted" : "degenerate", signed_volume(mesh, c)));
+    if (o != CellOrientation::positive)
+      throw InputError(fmt::format("{}: cell {} is {} (signed volume {:g})", name, c,
+                                   o == CellOrientation::inverted ? "inverted" : "degenerate", vertex_volume(mesh, c)));
+    if (is_folded(mesh, c))
+      throw InputError(
+          fmt::format("{}: cell {} is folded (the Jacobian determinant of its quadratic map is {:g} at a "
+                      "vertex or the centroid; expected positive)",
+                      name, c, min_jacobian_determinant(mesh, c)));
   }
 }
 

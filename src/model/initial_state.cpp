@@ -31,6 +31,23 @@ Vec<D> body_centroid(const Model<D>& model, int body, const Eigen::VectorXd& u) 
   if (b.num_cells == 0) return node_mean<D>(model, b, u);
   Vec<D> sum = Vec<D>::Zero();
   double volume = 0.0;
+  if (model.order == 2) {  // ∫x dV / ∫dV by the mass rule (exact on straight-sided cells)
+    using Shape = fem::Quadratic<D>::Shape;
+    const auto rule = fem::quadrature<D, D == 2 ? 4 : 5>();
+    for (int c = b.first_cell; c < b.first_cell + b.num_cells; ++c) {
+      fem::QuadraticNodes<D> x;
+      for (int a = 0; a < Shape::kNodes; ++a) {
+        const int n = model.cells(a, c);
+        x.col(a) = model.X.col(n) + u.template segment<D>(n * D);
+      }
+      for (int q = 0; q < rule.kPoints; ++q) {
+        const double v = rule.weights[q] * fem::quadratic_jacobian<D>(x, rule.points[q]).determinant();
+        sum += v * (x * Shape::shape(rule.points[q]));
+        volume += v;
+      }
+    }
+    return sum / volume;
+  }
   for (int c = b.first_cell; c < b.first_cell + b.num_cells; ++c) {
     fem::NodeMatrix<D> x;
     for (int a = 0; a <= D; ++a) {

@@ -6,8 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "fem/simplex.hpp"
 #include <memory>
+
+#include "fem/quadratic.hpp"
+#include "fem/simplex.hpp"
 
 #include "material/law.hpp"
 #include "mesh/mesh.hpp"
@@ -48,8 +50,12 @@ struct FreeBody {
 template <int D>
 struct Model {
   Eigen::Matrix<double, D, Eigen::Dynamic> X;     ///< reference coordinates, D × n_nodes [m]
-  Eigen::MatrixXi cells;                          ///< (D+1) × n_cells, global node numbers
-  std::vector<fem::SimplexGeometry<D>> geometry;  ///< per cell
+  /// Nodes × n_cells, global node numbers: D+1 rows (linear cells) or
+  /// (D+1)(D+2)/2 (quadratic, Gmsh's order, fem/lagrange.hpp).
+  Eigen::MatrixXi cells;
+  int order = 1;                                  ///< every cell's: 1 or 2
+  std::vector<fem::SimplexGeometry<D>> geometry;  ///< per cell, order 1
+  std::vector<fem::QuadraticGeometry<D>> quadratic;  ///< per cell, order 2
   std::vector<int> cell_body;                     ///< body index per cell
   std::vector<Body> bodies;
   Vec<D> gravity = Vec<D>::Zero();  ///< [m/s²]
@@ -87,6 +93,10 @@ struct Model {
     return -1;
   }
   [[nodiscard]] int num_dofs() const { return D * num_nodes(); }
+  /// Reference volume of held cell c [m³] (2D: area × thickness).
+  [[nodiscard]] double cell_volume(int c) const {
+    return order == 1 ? geometry[static_cast<std::size_t>(c)].volume : quadratic[static_cast<std::size_t>(c)].volume;
+  }
   [[nodiscard]] int num_ranks() const { return rank_nodes.empty() ? 1 : static_cast<int>(rank_nodes.size()) - 1; }
   /// This rank's nodes [first, end).
   [[nodiscard]] int first_owned() const { return rank_nodes.empty() ? 0 : rank_nodes[rank]; }

@@ -107,7 +107,7 @@ void add_body(Builder& f, const io::BodySpec& spec, const model::Model<D>& model
         [&](Hasher& h) { h.matrix(model.X.middleCols(body.first_node, body.num_nodes)); });
   f.add(name + "cells", "", [&](Hasher& h) { h.matrix(model.cells.middleCols(body.first_cell, body.num_cells)); });
   f.add(name + "cell volumes", "", [&](Hasher& h) {  // hold the 2D thickness
-    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) h.value(model.geometry[c].volume);
+    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) h.value(model.cell_volume(c));
   });
   f.add(name + "facet groups", "", [&](Hasher& h) {
     for (const auto& [group, facets] : body.facet_groups) {

@@ -202,12 +202,17 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
     if (ranks_ == 1 || model.owns(model.cells(0, c))) written.push_back(c);
   const auto cells = static_cast<Eigen::Index>(written.size());
   const auto facets = ranks_ == 1 || rank_ == 0 ? surface_facets_.cols() : Eigen::Index{0};
-  grid.cells = Eigen::MatrixXi::Zero(D + 1, cells + facets);
+  const auto nodes = static_cast<int>(model.cells.rows());  // D + 1, or a quadratic cell's
+  grid.cells = Eigen::MatrixXi::Zero(nodes, cells + facets);
   for (Eigen::Index k = 0; k < cells; ++k) grid.cells.col(k) = model.cells.col(written[static_cast<std::size_t>(k)]);
   grid.cells.block(0, cells, D, facets) = surface_facets_.leftCols(facets);
-  if (facets > 0) {  // mixed: simplices of D + 1 nodes, then facets of D
-    grid.nodes_per_cell.assign(static_cast<std::size_t>(cells), D + 1);
+  if (facets > 0) {  // mixed: simplices of `nodes` nodes, then facets of D
+    grid.nodes_per_cell.assign(static_cast<std::size_t>(cells), nodes);
     grid.nodes_per_cell.resize(static_cast<std::size_t>(cells + facets), D);
+  }
+  if (model.order != 1) {  // a quadratic cell's node count does not tell its type
+    grid.types.assign(static_cast<std::size_t>(cells), io::vtk_cell_type(D, nodes));
+    grid.types.resize(static_cast<std::size_t>(cells + facets), io::vtk_cell_type(D - 1, D));
   }
   auto point_vector = [&](const char* name, const Eigen::VectorXd& v) {
     io::VtuField f{name, 3, std::vector<double>(3 * model.num_nodes(), 0.0)};
@@ -223,13 +228,22 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
       energy{"strain_energy_density", 1, {}}, body{"body", 1, {}};
   for (const int c : written) {
     const material::Law& law = *model.bodies[model.cell_body[c]].law;
-    const fem::NodeMatrix<D> x = assembler_.cell_positions(c, state.u);
-    const Mat3 sigma = fem::cauchy_stress<D>(model.geometry[c], law, x);
+    Mat3 sigma;
+    double W = 0.0;
+    if (model.order == 1) {
+      const fem::NodeMatrix<D> x = assembler_.cell_positions(c, state.u);
+      sigma = fem::cauchy_stress<D>(model.geometry[c], law, x);
+      W = fem::strain_energy<D>(model.geometry[c], law, x);
+    } else {
+      const auto x = assembler_.template positions<fem::Quadratic<D>::kNodes>(c, state.u);
+      sigma = fem::cauchy_stress<D>(model.quadratic[c], law, x);
+      W = fem::strain_energy<D>(model.quadratic[c], law, x);
+    }
     stress.values.insert(stress.values.end(),
                          {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(0, 2)});
     const Mat3 deviator = sigma - sigma.trace() / 3.0 * Mat3::Identity();
     mises.values.push_back(std::sqrt(1.5 * deviator.squaredNorm()));
-    energy.values.push_back(fem::strain_energy<D>(model.geometry[c], law, x) / model.geometry[c].volume);
+    energy.values.push_back(W / model.cell_volume(c));
     body.values.push_back(model.cell_body[c]);
   }
   // Bare surfaces have no stress or energy density (NaN: undefined).

@@ -25,7 +25,7 @@ Extent<D> extent(const model::Model<D>& model, const model::Body& body) {
   if (body.num_nodes == 0) return e;
   const auto X = model.X.middleCols(body.first_node, body.num_nodes);
   e.size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
-  for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) e.volume += model.geometry[c].volume;
+  for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) e.volume += model.cell_volume(c);
   return e;
 }
 

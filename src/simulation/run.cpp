@@ -302,7 +302,7 @@ CheckSummary check_dim(const io::Scenario& sc) {
                  0,
                  0};
   for (int c = 0; c < p.model.num_cells(); ++c)
-    s.total_mass += p.model.bodies[p.model.cell_body[c]].density * p.model.geometry[c].volume;
+    s.total_mass += p.model.bodies[p.model.cell_body[c]].density * p.model.cell_volume(c);
   s.warnings = plausibility_warnings<D>(sc, p.model, pairs);
   for (const contact::ContactPair<D>& pair : pairs) {
     if (pair.second_pass) continue;

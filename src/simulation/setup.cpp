@@ -269,7 +269,7 @@ class CellGrid {
  private:
   [[nodiscard]] Box box(int c) const {
     Box b;
-    for (int a = 0; a <= D; ++a) b.extend(x_.col(model_.cells(a, c)));
+    for (int a = 0; a < model_.cells.rows(); ++a) b.extend(x_.col(model_.cells(a, c)));  // a quadratic cell's midside nodes too
     return b;
   }
   [[nodiscard]] Eigen::Array<long, D, 1> key_of(const Vec<D>& p) const {
@@ -366,7 +366,7 @@ void check_scales(const io::Scenario& scenario, const model::Model<D>& model) {
     if (spec.rigid) continue;  // prescribed: its material never acts
     const model::Body& body = model.bodies[b];
     double volume = 0.0;
-    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) volume += model.geometry[c].volume;
+    for (int c = body.first_cell; c < body.first_cell + body.num_cells; ++c) volume += model.cell_volume(c);
     const auto X = model.X.middleCols(body.first_node, body.num_nodes);
     const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
     const material::Lame lame = body.law->small_strain();

@@ -33,8 +33,19 @@ Integrator<D>::Integrator(const assembly::Assembler<D>& assembler, fem::StressSc
 template <int D>
 void Integrator<D>::set_predictor(Predictor predictor) {
   if (predictor == Predictor::rigid) {
-    const Eigen::VectorXd row_sums = assembler_.mass_times(Eigen::VectorXd::Ones(assembler_.model().num_dofs()));
-    rigid_.emplace(assembler_.model(), row_sums(Eigen::seq(0, Eigen::last, D)));
+    const auto& model = assembler_.model();
+    const Eigen::VectorXd row_sums = assembler_.mass_times(Eigen::VectorXd::Ones(model.num_dofs()));
+    Eigen::VectorXd masses = row_sums(Eigen::seq(0, Eigen::last, D));
+    if (model.order != 1) {  // a quadratic consistent mass's row sums are not positive: its diagonal scaled to
+                             // each body's mass (fem::quadratic_mass, lumped)
+      const Eigen::VectorXd diagonal = assembler_.node_mass().diagonal();
+      for (const model::Body& b : model.bodies) {
+        const double total = masses.segment(b.first_node, b.num_nodes).sum();
+        const double sum = diagonal.segment(b.first_node, b.num_nodes).sum();
+        if (sum > 0.0) masses.segment(b.first_node, b.num_nodes) = diagonal.segment(b.first_node, b.num_nodes) * (total / sum);
+      }
+    }
+    rigid_.emplace(model, std::move(masses));
   } else {
     rigid_.reset();
   }

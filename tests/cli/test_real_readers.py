@@ -21,6 +21,7 @@ from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
 CONSERVE = None  # set from the command line
 VTK_VERTEX, VTK_LINE, VTK_TRIANGLE, VTK_TETRA = 1, 3, 5, 10
+VTK_QUADRATIC_TETRA = 24
 
 SCENARIOS = pathlib.Path(__file__).resolve().parents[1] / "data" / "scenarios"
 # test_rigid.cpp's scenarios; the disc's also gets a contact pair (so that
@@ -188,6 +189,31 @@ class RealReaders(unittest.TestCase):
                     mesh = meshio.read(f)
                     self.assertEqual(len(mesh.cells_dict["triangle"]), 8)
                     self.assertEqual(len(mesh.cells_dict["tetra"]), grid.GetNumberOfCells() - 8)
+
+    def test_quadratic_tetrahedra_in_vtk_order_3d(self):
+        """The box of order 2: VTK reads 10-node tetrahedra (type 24) beside
+        the square's triangles, each with VTK's node order (slots 4-9 the
+        middles of edges 01, 12, 20, 03, 13, 23: the box's cells are
+        straight-sided), and meshio reads them as tetra10."""
+        with tempfile.TemporaryDirectory() as tmp:
+            text = BOX_ON_SQUARE.replace('size = 0.2\n', 'size = 0.2\norder = 2\n', 1)
+            out = run(pathlib.Path(tmp), text)
+            _, f = pvd_files(out)[-1]
+            grid = read_vtk(f)
+            types = cell_types(grid)
+            self.assertEqual(set(types), {VTK_QUADRATIC_TETRA, VTK_TRIANGLE})
+            self.assertEqual(types.count(VTK_TRIANGLE), 8)
+            edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+            for c in range(grid.GetNumberOfCells()):
+                if types[c] != VTK_QUADRATIC_TETRA:
+                    continue
+                ids = grid.GetCell(c).GetPointIds()
+                p = [grid.GetPoint(ids.GetId(k)) for k in range(10)]
+                for slot, (a, b) in enumerate(edges, start=4):
+                    for k in range(3):
+                        self.assertAlmostEqual(p[slot][k], 0.5 * (p[a][k] + p[b][k]), delta=1e-6)
+            mesh = meshio.read(f)
+            self.assertEqual(len(mesh.cells_dict["tetra10"]), types.count(VTK_QUADRATIC_TETRA))
 
     def test_compressed_and_raw_read_back_identically(self):
         """Every array of a frame, compressed or raw, single or double, read

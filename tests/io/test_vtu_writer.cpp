@@ -1,5 +1,5 @@
 /// VTU/PVD output, decoded back from the appended data (raw and zlib) and
-/// compared bit for bit.
+/// compared bit for bit; linear and quadratic cells.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -159,6 +159,98 @@ TEST(VtuWriter, MixedCellsTakeTheirOwnNodeCounts) {
   EXPECT_EQ(vtu_array<std::int64_t>(xml, "Name=\"offsets\""), (std::vector<std::int64_t>{4, 8, 11, 13}));
   EXPECT_EQ(vtu_array<std::uint8_t>(xml, "Name=\"types\""), (std::vector<std::uint8_t>{10, 10, 5, 3}));
   expect_same_bits(vtu_array<double>(xml, "Name=\"energy density\""), grid.cell_data[0].values);
+}
+
+/// A 10-node tetrahedron, a 6-node triangle and a 3-node line, in Gmsh's
+/// node order (mesh/mesh.hpp); unused entries of a column are -1.
+VtuGrid quadratic_cells() {
+  VtuGrid grid;
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  grid.points = Eigen::MatrixXd::NullaryExpr(3, 13, [&] { return uniform(random); });
+  grid.cells = Eigen::MatrixXi::Constant(10, 3, -1);
+  grid.cells.col(0) << 0, 1, 2, 3, 4, 5, 6, 7, 8, 9;
+  grid.cells.col(1).head(6) << 0, 2, 1, 6, 5, 4;
+  grid.cells.col(2).head(3) << 10, 12, 11;
+  grid.types = {vtk_cell_type(3, 10), vtk_cell_type(2, 6), vtk_cell_type(1, 3)};
+  grid.cell_data.push_back({"id", 1, {0.0, 1.0, 2.0}});
+  return grid;
+}
+
+TEST(VtuWriter, VtkCellTypesOfLinearAndQuadraticSimplices) {
+  EXPECT_EQ(vtk_cell_type(0, 1), 1);
+  EXPECT_EQ(vtk_cell_type(1, 2), 3);
+  EXPECT_EQ(vtk_cell_type(2, 3), 5);
+  EXPECT_EQ(vtk_cell_type(3, 4), 10);
+  EXPECT_EQ(vtk_cell_type(1, 3), 21);
+  EXPECT_EQ(vtk_cell_type(2, 6), 22);
+  EXPECT_EQ(vtk_cell_type(3, 10), 24);
+  EXPECT_THROW(vtk_cell_type(2, 4), Error);
+  EXPECT_THROW(vtk_cell_type(3, 6), Error);
+  for (const int type : {1, 3, 5, 10, 21, 22, 24}) {
+    const auto t = static_cast<std::uint8_t>(type);
+    const int nodes = vtk_cell_nodes(t);
+    const int dim = type == 1 ? 0 : (type == 3 || type == 21 ? 1 : (type == 5 || type == 22 ? 2 : 3));
+    EXPECT_EQ(vtk_cell_type(dim, nodes), t) << type;
+  }
+  EXPECT_THROW(vtk_cell_nodes(12), Error);  // a hexahedron
+}
+
+// Quadratic cells need their types (a 3-node line and a 3-node triangle
+// have the same count); a 10-node tetrahedron's connectivity is written in
+// VTK's order, whose slots 7–9 are edges (0,3), (1,3), (2,3): Gmsh's slots
+// 8 (3,2) and 9 (3,1) swap. A 6-node triangle and a 3-node line are alike
+// in both.
+TEST(VtuWriter, QuadraticCellsTakeTheirTypesAndVtkNodeOrder) {
+  for (const bool compress : {true, false}) {
+    const auto file = test::scratch("vtu_quadratic") / "grid.vtu";
+    const VtuGrid grid = quadratic_cells();
+    write_vtu(file, grid, {.compress = compress});
+    const auto xml = test::slurp(file);
+    EXPECT_NE(xml.find("NumberOfPoints=\"13\" NumberOfCells=\"3\""), std::string::npos);
+    EXPECT_EQ(vtu_array<std::int64_t>(xml, "Name=\"connectivity\""),
+              (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5, 6, 7, 9, 8, 0, 2, 1, 6, 5, 4, 10, 12, 11}));
+    EXPECT_EQ(vtu_array<std::int64_t>(xml, "Name=\"offsets\""), (std::vector<std::int64_t>{10, 16, 19}));
+    EXPECT_EQ(vtu_array<std::uint8_t>(xml, "Name=\"types\""), (std::vector<std::uint8_t>{24, 22, 21}));
+    expect_same_bits(vtu_array<double>(xml, "Name=\"id\""), grid.cell_data[0].values);
+  }
+}
+
+TEST(VtuWriter, TypesMustFitTheNodeCounts) {
+  const auto file = test::scratch("vtu_bad_types") / "a.vtu";
+  VtuGrid grid = quadratic_cells();
+  grid.types.pop_back();  // two types for three cells
+  EXPECT_THROW(write_vtu(file, grid), Error);
+  grid = quadratic_cells();
+  grid.nodes_per_cell = {10, 6, 2};  // a 3-node line given 2 nodes
+  EXPECT_THROW(write_vtu(file, grid), Error);
+  grid.nodes_per_cell = {10, 6, 3};  // agreeing counts are fine
+  EXPECT_NO_THROW(write_vtu(file, grid));
+  grid = quadratic_cells();
+  grid.types[1] = 12;  // not a simplex
+  EXPECT_THROW(write_vtu(file, grid), Error);
+  grid = quadratic_cells();
+  grid.types.clear();  // 10 nodes per cell, no type inferred for them
+  EXPECT_THROW(write_vtu(file, grid), Error);
+  grid = quadratic_cells();
+  grid.cells.conservativeResize(6, 3);  // a column too short for the tetrahedron
+  EXPECT_THROW(write_vtu(file, grid), Error);
+}
+
+TEST(VtuWriter, PieceKeepsTheCellsTypes) {
+  const VtuGrid grid = quadratic_cells();
+  const VtuGrid part = piece(grid, 1, 3);  // the triangle and the line
+  EXPECT_EQ(part.types, (std::vector<std::uint8_t>{22, 21}));
+  EXPECT_TRUE(part.nodes_per_cell.empty());
+  ASSERT_EQ(part.points.cols(), 9);  // nodes 0, 1, 2, 4, 5, 6, 10, 11, 12
+  EXPECT_EQ(part.points.col(6), grid.points.col(10));
+  const auto file = test::scratch("vtu_quadratic_piece") / "part.vtu";
+  write_vtu(file, part);
+  const auto xml = test::slurp(file);
+  EXPECT_EQ(vtu_array<std::int64_t>(xml, "Name=\"connectivity\""),
+            (std::vector<std::int64_t>{0, 2, 1, 5, 4, 3, 6, 8, 7}));
+  EXPECT_EQ(vtu_array<std::uint8_t>(xml, "Name=\"types\""), (std::vector<std::uint8_t>{22, 21}));
+  EXPECT_EQ(piece(two_tetrahedra(), 0, 2).types, std::vector<std::uint8_t>{});  // none given, none made
 }
 
 TEST(VtuWriter, BadNodesPerCellThrowsError) {

@@ -1,5 +1,6 @@
 // Built-in generators: validation, volumes against the analytic ones,
-// closed outward boundaries, and named facet groups on the right faces.
+// closed outward boundaries, and named facet groups on the right faces;
+// with order = 2, every midside node of a group on its (curved) face.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -178,12 +179,19 @@ TEST(Generators, CatalogDescribesEveryGenerator) {
   for (const Case& c : all) {
     ASSERT_TRUE(catalog.contains(c.kind)) << c.kind;
     const GeneratorInfo& info = catalog.at(c.kind);
-    EXPECT_EQ(info.parameters.size(), c.params.size()) << c.kind;
+    ASSERT_EQ(info.parameters.size(), c.params.size() + 1) << c.kind;
     for (const GeneratorParameter& p : info.parameters) {
+      EXPECT_FALSE(p.doc.empty());
+      if (p.name == "order") continue;
       EXPECT_TRUE(c.params.contains(p.name)) << c.kind << " " << p.name;
       EXPECT_EQ(p.unit, "m");
-      EXPECT_FALSE(p.doc.empty());
     }
+    // and last, the order every generator takes
+    const GeneratorParameter& order = info.parameters.back();
+    EXPECT_EQ(order.name, "order") << c.kind;
+    EXPECT_FALSE(order.required);
+    EXPECT_EQ(order.default_value, 1.0);
+    EXPECT_EQ(order.unit, "");
   }
 }
 
@@ -326,7 +334,7 @@ TEST(GeneratorErrors, UnknownGeneratorListsKnownOnes) {
 
 TEST(GeneratorErrors, UnknownParameterListsAllowedOnes) {
   EXPECT_THAT(error_of("box", {{"lx", 1}, {"ly", 1}, {"lz", 1}, {"size", 1}, {"width", 2}}),
-              AllOf(HasSubstr("unknown parameter 'width'"), HasSubstr("lx, ly, lz, size")));
+              AllOf(HasSubstr("unknown parameter 'width'"), HasSubstr("lx, ly, lz, order, size")));
 }
 
 TEST(GeneratorErrors, MissingOrBadParameters) {
@@ -340,6 +348,110 @@ TEST(GeneratorErrors, MissingOrBadParameters) {
   EXPECT_THAT(error_of("hollow_cylinder", {{"inner_radius", 2}, {"outer_radius", 1}, {"length", 1}, {"size", 0.1}}),
               HasSubstr("must be smaller"));
   EXPECT_THAT(error_of("box", {{"lx", 1}, {"ly", 1}, {"lz", 1}, {"size", 1e-4}}), HasSubstr("would make about"));
+}
+
+// ---- order = 2: 10-node tetrahedra, 6-node triangles ----
+
+/// The case with order = 2.
+Case quadratic(Case c) {
+  c.params["order"] = 2;
+  return c;
+}
+
+/// Straight shapes, whose quadratic cells Gmsh leaves straight.
+bool straight(const std::string& kind) { return kind == "box" || kind == "plate" || kind == "rectangle"; }
+
+class QuadraticGeneratorTest : public ::testing::TestWithParam<Case> {};
+
+TEST_P(QuadraticGeneratorTest, EveryNodeOfTheGroupsOnItsFaceAndAnExactVolume) {
+  const Case& c = GetParam();
+  const Mesh mesh = generate_mesh(c.kind, quadratic(c).params);
+  ASSERT_EQ(mesh.order(), 2);
+  ASSERT_EQ(mesh.cells.rows(), cell_nodes(mesh.dim, 2));
+  const Mesh linear = generate_mesh(c.kind, c.params);
+  EXPECT_EQ(mesh.num_cells(), linear.num_cells());  // the same cells, with midside nodes
+  EXPECT_GT(mesh.num_nodes(), 2 * linear.num_nodes());
+  // check_orientation (in check_mesh_consistency) also refuses folded cells
+  const double volume = test::check_mesh_consistency(mesh);
+  // curved boundaries: within 2e-4 of the analytic volume (the linear
+  // meshes' faceting is off by up to 3e-2); straight ones: exact
+  EXPECT_NEAR(volume, c.volume, (straight(c.kind) ? 1e-12 : 2e-4) * c.volume);
+  EXPECT_LT(std::abs(volume - c.volume), std::max(0.5 * std::abs(total_volume(linear) - c.volume), 1e-12 * c.volume));
+  if (straight(c.kind)) test::expect_straight_midsides(mesh, mesh.cells, 1e-9);  // Gmsh's node order is ours
+  const Eigen::MatrixXi boundary = boundary_facets(mesh);
+  ASSERT_EQ(boundary.rows(), facet_nodes(mesh.dim, 2));
+  EXPECT_EQ(mesh.facet_groups.at("boundary").facets, boundary);
+  Eigen::Index in_groups = 0;
+  for (const auto& [name, on_group] : c.groups) {
+    SCOPED_TRACE(name);
+    const Eigen::MatrixXi& facets = mesh.facet_groups.at(name).facets;
+    ASSERT_EQ(facets.rows(), facet_nodes(mesh.dim, 2));
+    test::expect_oriented_subset(facets, boundary);
+    for (int f = 0; f < facets.cols(); ++f)  // midside nodes on the true surface, not on the chord
+      for (int i = 0; i < facets.rows(); ++i)
+        ASSERT_TRUE(on_group(point3(mesh, facets(i, f)))) << point3(mesh, facets(i, f));
+    in_groups += facets.cols();
+  }
+  if (c.groups_cover_boundary) {
+    EXPECT_EQ(in_groups, boundary.cols());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllShapes, QuadraticGeneratorTest, ::testing::ValuesIn(cases()),
+                         [](const auto& info) { return info.param.kind; });
+
+/// The largest |r − R| / R over the nodes of `facets` (r = |x| in 3D, the
+/// distance from the z axis when `axis`).
+double off_radius(const Mesh& mesh, const Eigen::MatrixXi& facets, double radius, bool axis) {
+  double worst = 0.0;
+  for (int f = 0; f < facets.cols(); ++f)
+    for (int i = 0; i < facets.rows(); ++i) {
+      const Eigen::Vector3d x = point3(mesh, facets(i, f));
+      worst = std::max(worst, std::abs((axis ? radius_xy(x) : x.norm()) - radius) / radius);
+    }
+  return worst;
+}
+
+TEST(Generators, QuadraticSphereAndDiscHaveTheirMidsidesOnTheCurve) {
+  const double r = 0.7;
+  const Mesh ball = generate_mesh("sphere", {{"radius", r}, {"size", 0.25}, {"order", 2}});
+  EXPECT_EQ(ball.cells.rows(), 10);
+  EXPECT_LT(off_radius(ball, ball.facet_groups.at("boundary").facets, r, false), 1e-9);
+  const double exact = 4.0 / 3.0 * kPi * r * r * r;
+  const double linear = total_volume(generate_mesh("sphere", {{"radius", r}, {"size", 0.25}}));
+  const double curved = total_volume(ball);
+  EXPECT_LT(std::abs(curved - exact), 0.02 * std::abs(linear - exact)) << curved - exact << " " << linear - exact;
+  EXPECT_NEAR(test::divergence_volume(ball, ball.facet_groups.at("surface").facets), curved, 1e-12 * exact);
+  const Mesh disc = generate_mesh("disc", {{"radius", r}, {"size", 0.1}, {"order", 2}});
+  EXPECT_EQ(disc.cells.rows(), 6);
+  EXPECT_LT(off_radius(disc, disc.facet_groups.at("circle").facets, r, true), 1e-9);
+  EXPECT_NEAR(total_volume(disc), kPi * r * r, 1e-5 * kPi * r * r);
+  EXPECT_NEAR(test::divergence_volume(disc, disc.facet_groups.at("boundary").facets), total_volume(disc), 1e-13);
+}
+
+TEST(Generators, OrderOneIsTheDefault) {
+  const Params p = {{"radius", 1}, {"size", 0.3}};
+  Params one = p;
+  one["order"] = 1;
+  const Mesh a = generate_mesh("disc", p), b = generate_mesh("disc", one);
+  EXPECT_EQ(a.order(), 1);
+  EXPECT_EQ(a.cells, b.cells);
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.facet_groups.at("circle").facets, b.facet_groups.at("circle").facets);
+  EXPECT_EQ(generate_mesh("segment", {{"lx", 1}, {"size", 0.5}, {"order", 1}}).num_nodes(), 3);
+}
+
+TEST(GeneratorErrors, OrderIsOneOrTwoAndOneForBareSurfaces) {
+  EXPECT_THAT(error_of("box", {{"lx", 1}, {"ly", 1}, {"lz", 1}, {"size", 1}, {"order", 3}}),
+              HasSubstr("generator 'box': parameter 'order' = 3 (expected 1 or 2)"));
+  EXPECT_THAT(error_of("disc", {{"radius", 1}, {"size", 1}, {"order", 1.5}}),
+              HasSubstr("parameter 'order' = 1.5 (expected 1 or 2)"));
+  EXPECT_THAT(error_of("disc", {{"radius", 1}, {"size", 1}, {"order", std::nan("")}}),
+              HasSubstr("parameter 'order' = nan (expected a finite number)"));
+  EXPECT_THAT(error_of("square", {{"lx", 1}, {"ly", 1}, {"size", 0.5}, {"order", 2}}),
+              HasSubstr("generator 'square': order = 2, but it makes a bare surface of straight facets without cells "
+                        "(expected order = 1)"));
+  EXPECT_THAT(error_of("segment", {{"lx", 1}, {"size", 0.5}, {"order", 2}}), HasSubstr("bare surface"));
 }
 
 }  // namespace

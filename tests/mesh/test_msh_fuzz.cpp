@@ -80,6 +80,8 @@ TEST(MshFuzz, MutatedValidFilesOnlyThrowInputError) {
       {test::file_bytes(test::data_dir() / "square.msh"), 2},
       {test::kTinyTet, 3},
       {test::kTinySquare2D, 2},
+      {test::kGmshTet10, 3},
+      {test::kGmshSquareTri6, 2},
   };
   for (int i = 0; i < 3000; ++i) {
     const auto& [bytes, dim] = valid[static_cast<std::size_t>(i) % valid.size()];

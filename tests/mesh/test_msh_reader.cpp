@@ -1,8 +1,11 @@
 // Reading Gmsh MSH 4.1 files: the committed meshes of tests/data/msh (made
-// by gmsh from the .geo files there) and small hand-written files; volume
-// meshes, and bare surfaces (a rigid body's) in 3D and 2D.
+// by gmsh from the .geo files there) and small files, hand-written or as
+// Gmsh wrote them; volume meshes, linear and quadratic (tet10, tri6), and
+// bare surfaces (a rigid body's) in 3D and 2D.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <map>
@@ -156,15 +159,96 @@ TEST(MshReaderErrors, WrongVersionOrFormat) {
 }
 
 TEST(MshReaderErrors, UnsupportedElementTypes) {
-  const std::string tet10 = replace(test::kTinyTet, "3 1 4 1\n2 1 2 3 4\n", "3 1 11 1\n2 1 2 3 4 5 5 5 5 5 5\n");
-  EXPECT_THAT(error_of(tet10),
-              AllOf(HasSubstr("tiny.msh:32:"), HasSubstr("unsupported element type 11 (10-node tetrahedron)"),
-                    HasSubstr("conserve needs 4-node tetrahedra")));
+  const std::string tet20 = replace(test::kTinyTet, "3 1 4 1\n", "3 1 29 1\n");
+  EXPECT_THAT(error_of(tet20),
+              AllOf(HasSubstr("tiny.msh:32:"), HasSubstr("unsupported element type 29 (20-node tetrahedron)"),
+                    HasSubstr("conserve needs 4-node tetrahedra (type 4) or 10-node ones (type 11)")));
   const std::string hex = replace(test::kTinyTet, "3 1 4 1\n2 1 2 3 4\n", "3 1 5 1\n2 1 2 3 4 5 5 5 5\n");
   EXPECT_THAT(error_of(hex),
               AllOf(HasSubstr("tiny.msh:32:"), HasSubstr("unsupported element type 5 (8-node hexahedron)")));
   const std::string unknown = replace(test::kTinyTet, "3 1 4 1\n", "3 1 77 1\n");
   EXPECT_THAT(error_of(unknown), AllOf(HasSubstr("tiny.msh:32:"), HasSubstr("unknown element type 77")));
+  // 2D: cubic and incomplete quartic triangles
+  for (const auto& [type, name] : {std::pair{"20", "9-node triangle"}, std::pair{"21", "10-node triangle"},
+                                   std::pair{"24", "15-node incomplete triangle"}})
+    EXPECT_THAT(error_of(replace(test::kTinySquare2D, "2 1 2 2\n", "2 1 " + std::string(type) + " 2\n"), 2),
+                AllOf(HasSubstr("tiny.msh:22:"), HasSubstr(fmt::format("unsupported element type {} ({})", type, name)),
+                      HasSubstr("conserve needs 3-node triangles (type 2) or 6-node ones (type 9)")));
+}
+
+TEST(MshReader, GmshTet10KeepsEveryNodeInGmshOrder) {
+  const Mesh mesh = parse_msh(test::kGmshTet10, "tet10.msh", 3);
+  EXPECT_EQ(mesh.order(), 2);
+  ASSERT_EQ(mesh.num_nodes(), 10);  // the midside nodes too
+  ASSERT_EQ(mesh.num_cells(), 1);
+  ASSERT_EQ(mesh.cells.rows(), 10);
+  // tags 1…10 in file order are nodes 0…9; the element is "1 3 4 2 7 10 8 5 9 6"
+  EXPECT_EQ(mesh.cells.col(0), (Eigen::Matrix<int, 10, 1>() << 0, 2, 3, 1, 6, 9, 7, 4, 8, 5).finished());
+  const auto x = [&](int slot) { return Eigen::Vector3d(mesh.points.col(mesh.cells(slot, 0))); };
+  EXPECT_LT((x(4) - (x(0) + x(1)) / 2).norm(), 1e-9);  // 4 = (0,1)
+  EXPECT_LT((x(8) - (x(3) + x(2)) / 2).norm(), 1e-9);  // 8 = (3,2)
+  EXPECT_LT((x(9) - (x(3) + x(1)) / 2).norm(), 1e-9);  // 9 = (3,1)
+  test::expect_straight_midsides(mesh, mesh.cells, 1e-9);
+  EXPECT_NEAR(total_volume(mesh), 1.0 / 6.0, 1e-12);
+  EXPECT_EQ(mesh.cell_groups.at("solid"), std::vector<int>{0});
+  // The file's bottom "1 2 3 5 6 7" faces +z, into the body: turned outward,
+  // its midside nodes with it.
+  const Eigen::MatrixXi& bottom = mesh.facet_groups.at("bottom").facets;
+  ASSERT_EQ(bottom.rows(), 6);
+  EXPECT_EQ(bottom.col(0), (Eigen::Matrix<int, 6, 1>() << 0, 2, 1, 6, 5, 4).finished());
+  test::expect_straight_midsides(mesh, bottom, 1e-9);
+  EXPECT_LT(test::area_normal(mesh, bottom, 0).z(), 0.0);
+  EXPECT_NEAR(test::check_mesh_consistency(mesh), 1.0 / 6.0, 1e-12);
+}
+
+TEST(MshReader, GmshSquareOfTri6In2D) {
+  const Mesh mesh = parse_msh(test::kGmshSquareTri6, "square6.msh", 2);
+  EXPECT_EQ(mesh.order(), 2);
+  ASSERT_EQ(mesh.num_nodes(), 13);
+  ASSERT_EQ(mesh.cells.rows(), 6);
+  ASSERT_EQ(mesh.num_cells(), 4);
+  EXPECT_EQ(mesh.cells.col(0), (Eigen::Matrix<int, 6, 1>() << 0, 1, 8, 4, 9, 10).finished());  // "1 2 9 5 10 11"
+  test::expect_straight_midsides(mesh, mesh.cells, 1e-9);
+  EXPECT_EQ(mesh.cell_groups.at("plate").size(), 4u);
+  const Eigen::MatrixXi& left = mesh.facet_groups.at("left").facets;
+  ASSERT_EQ(left.rows(), 3);
+  EXPECT_EQ(left.col(0), Eigen::Vector3i(3, 0, 7));  // "4 1 8": (0,1) → (0,0), outward already
+  test::expect_straight_midsides(mesh, left, 1e-9);
+  EXPECT_EQ(boundary_facets(mesh).cols(), 4);
+  EXPECT_NEAR(test::check_mesh_consistency(mesh), 1.0, 1e-12);
+}
+
+TEST(MshReaderErrors, MixedOrdersAreRefused) {
+  const std::string linear_facet = replace(test::kGmshTet10, "2 1 9 1\n1 1 2 3 5 6 7 \n", "2 1 2 1\n1 1 2 3\n");
+  EXPECT_THAT(error_of(linear_facet),
+              AllOf(HasSubstr("tiny.msh:66: element type 11 (10-node tetrahedron) is quadratic but the block at "
+                              "tiny.msh:64 holds type 2 (3-node triangle), which is linear"),
+                    HasSubstr("expected one order in a file")));
+  const std::string quadratic_facet = replace(test::kTinyTet, "2 1 2 1\n1 1 3 2\n", "2 1 9 1\n1 1 3 2 5 5 5\n");
+  EXPECT_THAT(error_of(quadratic_facet),
+              HasSubstr("tiny.msh:32: element type 4 (4-node tetrahedron) is linear but the block at tiny.msh:30 "
+                        "holds type 9 (6-node triangle), which is quadratic"));
+}
+
+TEST(MshReaderErrors, InvertedAndFoldedTet10) {
+  EXPECT_THAT(error_of(replace(test::kGmshTet10, "2 1 3 4 2 7 10 8 5 9 6", "2 3 1 4 2 7 10 8 5 9 6")),
+              AllOf(HasSubstr("tiny.msh:67:"), HasSubstr("element 2 is inverted")));
+  // node 5, the midside node of edge (3,0), pulled to 0.15 of the edge from
+  // vertex 0: the vertex simplex is still positive, but det J < 0 there
+  EXPECT_THAT(error_of(replace(test::kGmshTet10, "0.4999999999986718 0 0\n", "0.15 0 0\n")),
+              AllOf(HasSubstr("tiny.msh:67: element 2 is folded"), HasSubstr("Jacobian determinant"),
+                    HasSubstr("-0.4 at a vertex")));
+  EXPECT_NO_THROW(parse_msh(replace(test::kGmshTet10, "0.4999999999986718 0 0\n", "0.3 0 0.1\n"), "t.msh", 3));
+}
+
+TEST(MshSurfaceErrors, QuadraticBareSurfaceIsRefused) {
+  const std::string surface =
+      replace(test::kGmshTet10, "2 2 1 2\n2 1 9 1\n1 1 2 3 5 6 7 \n3 1 11 1\n2 1 3 4 2 7 10 8 5 9 6 \n",
+              "1 1 1 1\n2 1 9 1\n1 1 2 3 5 6 7\n");
+  EXPECT_THAT(error_of(surface, 3, "tiny.msh", BareSurface::accepted),
+              HasSubstr("tiny.msh:64: element type 9 (6-node triangle) in a surface mesh: conserve needs 3-node "
+                        "triangles"));
+  EXPECT_THAT(error_of(surface), HasSubstr("its 1 6-node triangles make a bare surface"));
 }
 
 TEST(MshReaderErrors, QuadsIn2DAndTetsIn2D) {

@@ -6,6 +6,7 @@
 
 #include "mesh/generators.hpp"
 #include "mesh/surface_mesh.hpp"
+#include "mesh/topology.hpp"
 #include "mesh_checks.hpp"
 
 namespace conserve::mesh {
@@ -106,6 +107,30 @@ TEST(SurfaceMesh, FlipReversesEveryGroup) {
   Mesh segment = generate_mesh("segment", {{"lx", 1}, {"size", 0.5}});
   flip_normals(segment);
   EXPECT_LT(test::area_normal(segment, all_facets(segment), 0).y(), 0.0);
+}
+
+// Bare surfaces are linear, but flip_normals keeps a quadratic facet's
+// midside nodes on their edges: a tri6 swaps vertices 1, 2 and midsides 3
+// ((0,1) → (0,2)) and 5; a line3 swaps its ends, its middle stays.
+TEST(SurfaceMesh, FlipTurnsQuadraticFacetsWhole) {
+  Mesh tet = test::quadratic(generate_mesh("box", {{"lx", 1}, {"ly", 1}, {"lz", 1}, {"size", 2}}));
+  tet.facet_groups["boundary"].facets = boundary_facets(tet);
+  const Eigen::MatrixXi before = tet.facet_groups.at("boundary").facets;
+  flip_normals(tet);
+  const Eigen::MatrixXi& after = tet.facet_groups.at("boundary").facets;
+  for (const auto [row, from] : {std::pair{0, 0}, {1, 2}, {2, 1}, {3, 5}, {4, 4}, {5, 3}})
+    EXPECT_EQ(after.row(row), before.row(from)) << row;
+  test::expect_straight_midsides(tet, after, 1e-12);
+  EXPECT_NEAR(test::divergence_volume(tet, after), -1.0, 1e-12);
+  Mesh plate = test::quadratic(generate_mesh("rectangle", {{"lx", 1}, {"ly", 1}, {"size", 2}}));
+  plate.facet_groups["boundary"].facets = boundary_facets(plate);
+  const Eigen::MatrixXi edges = plate.facet_groups.at("boundary").facets;
+  flip_normals(plate);
+  const Eigen::MatrixXi& flipped = plate.facet_groups.at("boundary").facets;
+  EXPECT_EQ(flipped.row(0), edges.row(1));
+  EXPECT_EQ(flipped.row(1), edges.row(0));
+  EXPECT_EQ(flipped.row(2), edges.row(2));
+  EXPECT_NEAR(test::divergence_volume(plate, flipped), -1.0, 1e-12);
 }
 
 TEST(SurfaceMesh, StatesTheGeneratorsNormals) {

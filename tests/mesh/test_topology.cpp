@@ -1,6 +1,10 @@
-// Boundary facets, sub-meshes and orientation checks on small hand-made meshes.
+// Boundary facets, sub-meshes and orientation checks on small hand-made
+// meshes, linear and quadratic (midside nodes in Gmsh's order, mesh.hpp).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
 
 #include "core/error.hpp"
 #include "mesh/topology.hpp"
@@ -195,6 +199,215 @@ TEST(Topology, SignedVolumes) {
   EXPECT_DOUBLE_EQ(signed_volume(mesh, 0), 0.5);
   EXPECT_DOUBLE_EQ(total_volume(mesh), 1.0);
   EXPECT_EQ(cell_orientation(mesh, 1), CellOrientation::positive);
+}
+
+// ---- quadratic cells (tet10, tri6; Gmsh's node order, mesh.hpp) ----
+
+Mesh unit_tet() {
+  Mesh mesh;
+  mesh.points = Eigen::Matrix<double, 3, 4>{{0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+  mesh.cells = Eigen::Vector4i(0, 1, 2, 3);
+  return mesh;
+}
+
+Mesh unit_triangle() {
+  Mesh mesh;
+  mesh.dim = 2;
+  mesh.points = Eigen::Matrix<double, 2, 3>{{0, 1, 0}, {0, 0, 1}};
+  mesh.cells = Eigen::Vector3i(0, 1, 2);
+  return mesh;
+}
+
+TEST(MeshOrder, NodeCountsAndTheDerivedOrder) {
+  static_assert(cell_nodes(2, 1) == 3 && cell_nodes(3, 1) == 4 && cell_nodes(2, 2) == 6 && cell_nodes(3, 2) == 10);
+  static_assert(facet_nodes(2, 1) == 2 && facet_nodes(3, 1) == 3 && facet_nodes(2, 2) == 3 && facet_nodes(3, 2) == 6);
+  EXPECT_EQ(kuhn_cube().order(), 1);
+  EXPECT_EQ(square().order(), 1);
+  EXPECT_EQ(test::quadratic(kuhn_cube()).order(), 2);
+  EXPECT_EQ(test::quadratic(square()).order(), 2);
+  EXPECT_EQ(Mesh{}.order(), 1);
+  Mesh none = test::quadratic(kuhn_cube());
+  none.cell_groups["none"] = {};
+  EXPECT_EQ(extract(none, "none").order(), 2);  // no cells, but 10 rows
+  Mesh surface;                                 // no cells at all: the facets say
+  surface.dim = 3;
+  surface.cells.resize(4, 0);
+  surface.facet_groups["s"].facets = Eigen::MatrixXi::Zero(6, 1);
+  EXPECT_EQ(surface.order(), 2);
+  surface.facet_groups["s"].facets = Eigen::MatrixXi::Zero(3, 1);
+  EXPECT_EQ(surface.order(), 1);
+}
+
+TEST(Topology, SingleTet10FacetsAreOutwardTri6WithTheirMidsides) {
+  const Mesh mesh = test::quadratic(unit_tet());  // midside nodes 4…9 are the local ones
+  ASSERT_EQ(mesh.cells.col(0), (Eigen::Matrix<int, 10, 1>() << 0, 1, 2, 3, 4, 5, 6, 7, 8, 9).finished());
+  const Eigen::MatrixXi facets = boundary_facets(mesh);
+  ASSERT_EQ(facets.rows(), 6);
+  ASSERT_EQ(facets.cols(), 4);
+  // facet k opposite vertex k, each edge's midside node in the facet's vertex order
+  const Eigen::Matrix<int, 6, 4> expected{{1, 0, 0, 0}, {2, 3, 1, 2}, {3, 2, 3, 1},
+                                          {5, 7, 4, 6}, {8, 8, 9, 5}, {9, 6, 7, 4}};
+  EXPECT_EQ(facets, expected);
+  test::expect_straight_midsides(mesh, facets, 1e-15);
+  const Eigen::Vector3d centre = mesh.points.leftCols(4).rowwise().mean();
+  for (int f = 0; f < 4; ++f) {
+    const Eigen::Vector3d mid =
+        (mesh.points.col(facets(0, f)) + mesh.points.col(facets(1, f)) + mesh.points.col(facets(2, f))) / 3;
+    EXPECT_GT(test::area_normal(mesh, facets, f).dot(mid - centre), 0.0) << f;
+  }
+  EXPECT_NEAR(test::divergence_volume(mesh, facets), 1.0 / 6.0, 1e-15);
+  EXPECT_NEAR(signed_volume(mesh, 0), 1.0 / 6.0, 1e-15);
+  EXPECT_DOUBLE_EQ(min_jacobian_determinant(mesh, 0), 1.0);
+  EXPECT_FALSE(is_folded(mesh, 0));
+}
+
+TEST(Topology, SingleTri6EdgesAreOutwardLine3) {
+  const Mesh mesh = test::quadratic(unit_triangle());
+  const Eigen::MatrixXi edges = boundary_facets(mesh);
+  ASSERT_EQ(edges.rows(), 3);
+  ASSERT_EQ(edges.cols(), 3);
+  EXPECT_EQ(edges, (Eigen::Matrix3i{{1, 2, 0}, {2, 0, 1}, {4, 5, 3}}));  // columns {1,2,4}, {2,0,5}, {0,1,3}
+  test::expect_straight_midsides(mesh, edges, 1e-15);
+  for (int e = 0; e < 3; ++e) {
+    const Eigen::Vector2d mid = mesh.points.col(edges(2, e));
+    EXPECT_GT(test::area_normal(mesh, edges, e).head<2>().dot(mid - Eigen::Vector2d(1.0 / 3, 1.0 / 3)), 0.0) << e;
+  }
+  EXPECT_NEAR(test::divergence_volume(mesh, edges), 0.5, 1e-15);
+}
+
+TEST(Topology, FlipCellTurnsMidsideNodesWithTheVertices) {
+  for (Mesh mesh : {kuhn_cube(), square(), test::quadratic(kuhn_cube()), test::quadratic(square())}) {
+    SCOPED_TRACE(mesh.cells.rows());
+    const Mesh before = mesh;
+    flip_cell(mesh, 1);
+    EXPECT_EQ(cell_orientation(mesh, 1), CellOrientation::inverted);
+    EXPECT_NEAR(signed_volume(mesh, 1), -signed_volume(before, 1), 1e-15);
+    EXPECT_EQ(mesh.cells.col(0), before.cells.col(0));
+    if (mesh.order() == 2) test::expect_straight_midsides(mesh, mesh.cells, 1e-15);  // each still on its edge
+    flip_cell(mesh, 1);
+    EXPECT_EQ(mesh.cells, before.cells);
+  }
+}
+
+TEST(Topology, CurvedTri6AreaIsExact) {
+  Mesh mesh = test::quadratic(unit_triangle());
+  const double bulge = 0.1;  // node 3, the middle of edge (0,1), pushed out of the triangle
+  mesh.points.col(3) = Eigen::Vector2d(0.5, -bulge);
+  const double exact = 0.5 + 2.0 / 3.0 * bulge;  // plus a parabolic segment of chord 1
+  EXPECT_NEAR(signed_volume(mesh, 0), exact, 1e-15);
+  EXPECT_NEAR(total_volume(mesh), exact, 1e-15);
+  EXPECT_NEAR(test::divergence_volume(mesh, boundary_facets(mesh)), exact, 1e-15);
+  EXPECT_EQ(vertex_volume(mesh, 0), 0.5);
+  EXPECT_EQ(cell_orientation(mesh, 0), CellOrientation::positive);
+  EXPECT_FALSE(is_folded(mesh, 0));
+  EXPECT_NO_THROW(check_orientation(mesh, "tri6"));
+  // node 3 at a tenth of its edge: det J = 4·0.1 − 1 < 0 at vertex 0
+  mesh.points.col(3) = Eigen::Vector2d(0.1, 0.0);
+  EXPECT_EQ(cell_orientation(mesh, 0), CellOrientation::positive);  // the vertex triangle is fine
+  EXPECT_TRUE(is_folded(mesh, 0));
+  EXPECT_NEAR(min_jacobian_determinant(mesh, 0), -0.6, 1e-15);
+  EXPECT_THAT(error_of([&] { check_orientation(mesh, "tri6"); }),
+              AllOf(HasSubstr("tri6: cell 0 is folded"), HasSubstr("-0.6")));
+}
+
+TEST(Topology, CurvedTet10VolumeMatchesItsCurvedSurface) {
+  Mesh mesh = test::quadratic(kuhn_cube());
+  // bend two midside nodes: of an interior edge (the body diagonal) and,
+  // outward, of a boundary one
+  const Eigen::MatrixXi straight = boundary_facets(mesh);
+  const int diagonal = mesh.cells(7, 0);  // edge (3, 0) of tet 0 = (0, a, b, 7)
+  ASSERT_EQ(mesh.points.col(diagonal), Eigen::Vector3d(0.5, 0.5, 0.5));
+  mesh.points.col(diagonal) += Eigen::Vector3d(0.05, -0.02, 0.04);
+  const Eigen::Vector3d n = test::area_normal(mesh, straight, 0).normalized();
+  mesh.points.col(straight(3, 0)) += 0.05 * n;
+  const double volume = total_volume(mesh);
+  EXPECT_GT(std::abs(volume - 1.0), 1e-3);  // the curved surface encloses another volume
+  EXPECT_NEAR(test::divergence_volume(mesh, boundary_facets(mesh)), volume, 1e-14);
+  double vertices = 0.0;
+  for (int c = 0; c < mesh.num_cells(); ++c) vertices += vertex_volume(mesh, c);
+  EXPECT_NEAR(vertices, 1.0, 1e-15);
+  EXPECT_NO_THROW(check_orientation(mesh, "cube"));
+}
+
+TEST(Topology, Tet10CubeBoundaryIsClosedAndOutward) {
+  const Mesh mesh = test::quadratic(kuhn_cube());
+  EXPECT_EQ(mesh.num_nodes(), 8 + 19);  // 12 cube edges, 6 face diagonals, the body diagonal
+  const Eigen::MatrixXi facets = boundary_facets(mesh);
+  ASSERT_EQ(facets.rows(), 6);
+  EXPECT_EQ(facets.cols(), 12);
+  test::expect_straight_midsides(mesh, facets, 1e-15);
+  EXPECT_EQ(facets.topRows(3), boundary_facets(kuhn_cube()));  // the same vertices, in the same order
+  EXPECT_NEAR(test::check_mesh_consistency(mesh), 1.0, 1e-15);
+}
+
+TEST(Topology, OrientOutwardTurnsQuadraticFacetsWhole) {
+  const Mesh mesh = test::quadratic(kuhn_cube());
+  const Eigen::MatrixXi boundary = boundary_facets(mesh);
+  Eigen::MatrixXi facets(6, 2);
+  const Eigen::VectorXi out = boundary.col(5);
+  facets.col(0) << out(0), out(2), out(1), out(5), out(4), out(3);                       // the same facet, inward
+  facets.col(1) << mesh.cells(0, 0), mesh.cells(3, 0), mesh.cells(1, 0), 100, 101, 102;  // inside (tets 0, 1)
+  const Eigen::VectorXi inside = facets.col(1);
+  EXPECT_EQ(orient_outward(facets, boundary), 1);
+  EXPECT_EQ(facets.col(0), out);
+  EXPECT_EQ(facets.col(1), inside);
+  Eigen::MatrixXi linear = boundary.topRows(3);
+  EXPECT_THROW(orient_outward(linear, boundary), std::invalid_argument);
+  // 2D: line3 facets (3 rows, as a tri3)
+  const Mesh plate = test::quadratic(square());
+  const Eigen::MatrixXi edges = boundary_facets(plate);
+  Eigen::MatrixXi reversed = edges;
+  reversed.row(0).swap(reversed.row(1));
+  EXPECT_EQ(orient_outward(reversed, edges), 0);
+  EXPECT_EQ(reversed, edges);
+}
+
+TEST(Topology, ExtractAndRenumberedKeepMidsideNodes) {
+  Mesh mesh = test::quadratic(kuhn_cube());
+  const Eigen::MatrixXi boundary = boundary_facets(mesh);
+  std::vector<int> bottom;
+  for (int f = 0; f < boundary.cols(); ++f)
+    if (mesh.points(2, boundary(0, f)) + mesh.points(2, boundary(1, f)) + mesh.points(2, boundary(2, f)) == 0.0)
+      bottom.push_back(f);
+  ASSERT_EQ(bottom.size(), 2u);
+  mesh.facet_groups["bottom"].facets = boundary(Eigen::all, bottom);
+  const Mesh low = extract(mesh, "low");  // tets 0-1-3-7, 0-1-5-7, 0-2-3-7
+  EXPECT_EQ(low.num_cells(), 3);
+  ASSERT_EQ(low.cells.rows(), 10);
+  EXPECT_EQ(low.num_nodes(), 6 + 12);  // their vertices and edges
+  test::expect_straight_midsides(low, low.cells, 1e-15);
+  EXPECT_NEAR(total_volume(low), 0.5, 1e-15);
+  ASSERT_EQ(low.facet_groups.at("bottom").facets.rows(), 6);
+  EXPECT_EQ(low.facet_groups.at("bottom").facets.cols(), 2);
+  test::expect_straight_midsides(low, low.facet_groups.at("bottom").facets, 1e-15);
+  test::expect_oriented_subset(low.facet_groups.at("bottom").facets, boundary_facets(low));
+
+  std::vector<int> order(static_cast<std::size_t>(mesh.num_nodes()));
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = mesh.num_nodes() - 1 - static_cast<int>(k);
+  const Mesh r = renumbered(mesh, order);
+  ASSERT_EQ(r.cells.rows(), 10);
+  test::expect_straight_midsides(r, r.cells, 1e-15);
+  EXPECT_DOUBLE_EQ(total_volume(r), total_volume(mesh));
+  for (int c = 0; c < r.num_cells(); ++c) EXPECT_EQ(cell_orientation(r, c), CellOrientation::positive);
+  test::expect_straight_midsides(r, r.facet_groups.at("bottom").facets, 1e-15);
+  test::expect_oriented_subset(r.facet_groups.at("bottom").facets, boundary_facets(r));
+}
+
+TEST(Topology, NodeGraphOfQuadraticCellsLinksMidsideNodes) {
+  const Mesh mesh = test::quadratic(kuhn_cube());
+  std::vector<int> offsets, neighbours;
+  node_graph(mesh, offsets, neighbours);
+  ASSERT_EQ(offsets.size(), 28u);
+  EXPECT_EQ(offsets[1] - offsets[0], 26);  // node 0 is on every tet: every other node
+  const int mid = mesh.cells(4, 0);        // the middle of edge (0, 1) of tet 0: the nodes of its tets
+  std::vector<int> expected;
+  for (int c = 0; c < mesh.num_cells(); ++c)
+    if ((mesh.cells.col(c).array() == mid).any())
+      for (int a = 0; a < 10; ++a)
+        if (mesh.cells(a, c) != mid) expected.push_back(mesh.cells(a, c));
+  std::sort(expected.begin(), expected.end());
+  expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+  EXPECT_EQ(std::vector<int>(neighbours.begin() + offsets[mid], neighbours.begin() + offsets[mid + 1]), expected);
 }
 
 }  // namespace

@@ -1,5 +1,11 @@
 #pragma once
 /// Structured simplex meshes for tests that must not depend on Gmsh.
+#include <cmath>
+#include <map>
+#include <vector>
+#include <utility>
+
+#include "fem/lagrange.hpp"
 #include "fem/simplex.hpp"
 #include "mesh/mesh.hpp"
 
@@ -58,6 +64,58 @@ inline mesh::Mesh rectangle_mesh(int nx, int ny, double lx, double ly) {
   for (int j = 0; j < ny; ++j) xmin.col(j) << id(0, j + 1), id(0, j);
   m.facet_groups["xmin"].facets = xmin;
   return m;
+}
+
+/// The linear mesh m with a node at the middle of every edge (Gmsh's order,
+/// fem/lagrange.hpp), each moved by `bend` × (the edge's length) × a smooth
+/// function of its position, so that cells are curved but keep positive
+/// Jacobians for small `bend`. Facet groups become quadratic facets.
+inline mesh::Mesh quadratic_mesh(const mesh::Mesh& m, double bend = 0.0) {
+  const int dim = m.dim;
+  std::map<std::pair<int, int>, int> middle;
+  std::vector<Eigen::VectorXd> added;
+  const auto node_of = [&](int a, int b) {
+    const auto key = std::minmax(a, b);
+    const auto [it, inserted] = middle.try_emplace({key.first, key.second}, m.num_nodes() + static_cast<int>(added.size()));
+    if (inserted) {
+      Eigen::VectorXd x = 0.5 * (m.points.col(a) + m.points.col(b));
+      const double length = (m.points.col(a) - m.points.col(b)).norm();
+      for (int i = 0; i < dim; ++i) x(i) += bend * length * std::sin(3.0 * x((i + 1) % dim) + i);
+      added.push_back(x);
+    }
+    return it->second;
+  };
+  const auto edges2 = fem::Lagrange<2, 2>::edges();
+  const auto edges3 = fem::Lagrange<3, 2>::edges();
+  mesh::Mesh q;
+  q.dim = dim;
+  q.cell_groups = m.cell_groups;
+  q.cells.resize(dim == 2 ? 6 : 10, m.num_cells());
+  for (int c = 0; c < m.num_cells(); ++c) {
+    q.cells.col(c).head(dim + 1) = m.cells.col(c);
+    int e = dim + 1;
+    if (dim == 2)
+      for (const auto& [a, b] : edges2) q.cells(e++, c) = node_of(m.cells(a, c), m.cells(b, c));
+    else
+      for (const auto& [a, b] : edges3) q.cells(e++, c) = node_of(m.cells(a, c), m.cells(b, c));
+  }
+  for (const auto& [name, group] : m.facet_groups) {
+    const Eigen::MatrixXi& f = group.facets;
+    Eigen::MatrixXi out(dim == 2 ? 3 : 6, f.cols());
+    for (Eigen::Index k = 0; k < f.cols(); ++k) {
+      out.col(k).head(dim) = f.col(k);
+      if (dim == 2) {
+        out(2, k) = node_of(f(0, k), f(1, k));
+      } else {
+        out(3, k) = node_of(f(0, k), f(1, k)), out(4, k) = node_of(f(1, k), f(2, k)), out(5, k) = node_of(f(2, k), f(0, k));
+      }
+    }
+    q.facet_groups[name].facets = out;
+  }
+  q.points.resize(dim, m.num_nodes() + static_cast<Eigen::Index>(added.size()));
+  q.points.leftCols(m.num_nodes()) = m.points;
+  for (std::size_t i = 0; i < added.size(); ++i) q.points.col(m.num_nodes() + static_cast<Eigen::Index>(i)) = added[i];
+  return q;
 }
 
 }  // namespace conserve::test

@@ -24,6 +24,7 @@ double thickness(const model::Model<D>& model, int body) {
   } else {
     const model::Body& b = model.bodies[static_cast<std::size_t>(body)];
     if (b.num_cells == 0) return 1.0;
+    if (model.order != 1) return b.thickness;
     fem::NodeMatrix<2> X;
     for (int a = 0; a < 3; ++a) X.col(a) = model.X.col(model.cells(a, b.first_cell));
     return model.geometry[static_cast<std::size_t>(b.first_cell)].volume / std::abs(fem::signed_measure<2>(X));
