@@ -25,13 +25,12 @@ Eigen::MatrixXi body_boundary(const model::Model<D>& model, const model::Body& b
   return mesh::boundary_facets(cells_only).array() + body.first_node;
 }
 
-/// The facet's nodes sorted, as a key for "same facet, any orientation".
-std::array<int, 3> facet_key(const Eigen::MatrixXi& facets, int f) {
+/// The facet's vertices (its first `dim` nodes) sorted, as a key for "same
+/// facet, any orientation".
+std::array<int, 3> facet_key(const Eigen::MatrixXi& facets, int f, int dim) {
   std::array<int, 3> key{-1, -1, -1};
-  for (int i = 0; i < facets.rows(); ++i) key[static_cast<std::size_t>(i)] = facets(i, f);
-  if (key[0] > key[1]) std::swap(key[0], key[1]);
-  if (facets.rows() == 3 && key[1] > key[2]) std::swap(key[1], key[2]);
-  if (facets.rows() == 3 && key[0] > key[1]) std::swap(key[0], key[1]);
+  for (int i = 0; i < dim; ++i) key[static_cast<std::size_t>(i)] = facets(i, f);
+  std::sort(key.begin(), key.begin() + dim);
   return key;
 }
 
@@ -46,7 +45,7 @@ Eigen::MatrixXi union_of_groups(const model::Body& body, int dim) {
     all.conservativeResize(dim, start + group.cols());
     all.rightCols(group.cols()) = group;
     for (int f = 0; f < group.cols(); ++f) {
-      const auto key = facet_key(all, static_cast<int>(start) + f);
+      const auto key = facet_key(all, static_cast<int>(start) + f, dim);
       if (seen.insert(key).second) columns.push_back(static_cast<int>(start) + f);
     }
   }
@@ -157,10 +156,6 @@ ContactSurface make_surface(const model::Model<D>& model, int body, const std::s
   if (body < 0 || body >= static_cast<int>(model.bodies.size()))
     throw InputError(fmt::format("contact surface: no body number {} (the model has {})", body, model.bodies.size()));
   const model::Body& b = model.bodies[static_cast<std::size_t>(body)];
-  if (b.num_cells > 0 && model.order != 1)
-    throw InputError(fmt::format("contact surface: body '{}', group '{}': contact and surface loads on quadratic "
-                                 "facets are not available in this version (mesh the body with order = 1)",
-                                 b.name, group));
   ContactSurface surface;
   surface.name = b.name + ":" + group;
   surface.body = body;

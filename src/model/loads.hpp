@@ -13,7 +13,7 @@ struct SurfaceLoad {
   enum class Kind { traction, pressure };
   Kind kind = Kind::traction;
   int body = -1;
-  Eigen::MatrixXi facets;          ///< D × n global nodes, outward oriented (contact/facet.hpp's normal)
+  Eigen::MatrixXi facets;          ///< NF × n global nodes (NF = D, or 3 | 6 for P2), outward oriented
   Vec3 traction = Vec3::Zero();    ///< nominal traction [Pa] (traction)
   double pressure = 0.0;           ///< [Pa], positive pushing into the body (pressure)
   int curve = -1;                  ///< index into Prescribed::curves; −1: constant

@@ -33,7 +33,12 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     contact::ContactPair<D> pair;
     const auto surface = [&](const char* key, const std::string& body, const std::string& group) {
       try {
-        return contact::make_surface<D>(model, body_index(model, body), group);
+        contact::ContactSurface s = contact::make_surface<D>(model, body_index(model, body), group);
+        if (s.facets.rows() != D)
+          throw InputError(fmt::format("body '{}', group '{}': contact on quadratic facets is not available in "
+                                       "this version (mesh the body with order = 1)",
+                                       body, group));
+        return s;
       } catch (const InputError& e) {
         throw InputError(fmt::format("{}: {}", scenario.sources.locate(fmt::format("contact[{}].{}", i, key)), e.what()));
       }

@@ -1,29 +1,40 @@
 #include "time/surface_loads.hpp"
 
+#include "fem/facet_integrals.hpp"
+
 namespace conserve::time {
 namespace {
 
 using Load = model::SurfaceLoad;
 
-/// The outward area vector of facet f of `load` at positions x (2D: the
-/// length × thickness along the outward normal of contact/facet.hpp).
-template <int D>
-Vec<D> area_vector(const Load& load, int f, const Eigen::Matrix<double, D, Eigen::Dynamic>& x) {
-  const Vec<D> a = x.col(load.facets(1, f)) - x.col(load.facets(0, f));
-  if constexpr (D == 2) {
-    return load.thickness * Vec<2>(a.y(), -a.x());
-  } else {
-    return 0.5 * a.cross(Vec<3>(x.col(load.facets(2, f)) - x.col(load.facets(0, f))));
-  }
+/// Calls f(FacetIntegrals<D, P>{}) for the order of the load's facets
+/// (D rows: P1; D(D+1)/2: P2).
+template <int D, class F>
+void with_facet_order(const Load& load, F&& f) {
+  if (load.facets.rows() == D)
+    f(fem::FacetIntegrals<D, 1>{});
+  else
+    f(fem::FacetIntegrals<D, 2>{});
 }
 
+/// The nodes of facet k of `load` at positions x.
+template <class I, int D>
+typename I::Nodes facet_nodes(const Load& load, int k, const Eigen::Matrix<double, D, Eigen::Dynamic>& x) {
+  typename I::Nodes n;
+  for (int a = 0; a < I::kNodes; ++a) n.col(a) = x.col(load.facets(a, k));
+  return n;
+}
+
+/// f_a = t ∫ N_a dA_0: the nominal traction's nodal forces at factor 1.
 template <int D>
 Eigen::VectorXd traction_force(const model::Model<D>& model, const Load& load) {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(model.num_dofs());
-  for (int k = 0; k < load.facets.cols(); ++k) {
-    const double share = area_vector<D>(load, k, model.X).norm() / D;
-    for (int a = 0; a < D; ++a) f.segment<D>(load.facets(a, k) * D) += share * load.traction.head<D>();
-  }
+  with_facet_order<D>(load, [&]<class I>(I) {
+    for (int k = 0; k < load.facets.cols(); ++k) {
+      const auto share = I::measure_shares(facet_nodes<I, D>(load, k, model.X), load.thickness);
+      for (int a = 0; a < I::kNodes; ++a) f.segment<D>(load.facets(a, k) * D) += share(a) * load.traction.head<D>();
+    }
+  });
   return f;
 }
 
@@ -71,11 +82,13 @@ Eigen::VectorXd SurfaceLoads<D>::force(const Eigen::VectorXd& u_np1, bool work_o
       f += factor_[l] * traction_[l];
       continue;
     }
-    const double p = factor_[l] * load.pressure / D;
-    for (int k = 0; k < load.facets.cols(); ++k) {
-      const Vec<D> share = -p * area_vector<D>(load, k, x_mid);
-      for (int a = 0; a < D; ++a) f.segment<D>(load.facets(a, k) * D) += share;
-    }
+    const double p = factor_[l] * load.pressure;
+    with_facet_order<D>(load, [&]<class I>(I) {
+      for (int k = 0; k < load.facets.cols(); ++k) {
+        const typename I::Nodes share = -p * I::area_shares(facet_nodes<I, D>(load, k, x_mid), load.thickness);
+        for (int a = 0; a < I::kNodes; ++a) f.segment<D>(load.facets(a, k) * D) += share.col(a);
+      }
+    });
   }
   return f;
 }
@@ -87,8 +100,8 @@ void SurfaceLoads<D>::add_value(const Eigen::VectorXd& u_np1, Eigen::VectorXd& g
   magnitude += f.cwiseAbs();
 }
 
-// ∂f/∂u_{n+1} of the pressures: ½ ∂f/∂x_{n+½}, with ∂A/∂x_k = ½[x_{k+2} − x_{k+1}]×
-// (3D, nodes cyclic) and ∂A/∂x_1 = −∂A/∂x_0 = t [[0, 1], [−1, 0]] (2D).
+// ∂(−f)/∂u_{n+1} of the pressures: f_a = −p s_a(x_{n+½}), ∂/∂u_{n+1} = ½ ∂/∂x_{n+½}
+// (fem/facet_integrals.hpp).
 template <int D>
 void SurfaceLoads<D>::add_derivative(const Eigen::VectorXd& u_np1, SparseMatrix& K) {
   const auto& model = assembler_.model();
@@ -97,25 +110,21 @@ void SurfaceLoads<D>::add_derivative(const Eigen::VectorXd& u_np1, SparseMatrix&
   for (std::size_t l = 0; l < model.loads.size(); ++l) {
     const Load& load = model.loads[l];
     if (load.kind != Load::Kind::pressure) continue;
-    const double c = -factor_[l] * load.pressure / D * 0.5;  // f_a = c' A, ∂/∂u = ½ ∂/∂x_mid
-    for (int k = 0; k < load.facets.cols(); ++k)
-      for (int b = 0; b < D; ++b) {
-        Eigen::Matrix<double, D, D> dA;
-        if constexpr (D == 2) {
-          dA << 0.0, 1.0, -1.0, 0.0;
-          dA *= load.thickness * (b == 1 ? 1.0 : -1.0);
-        } else {
-          const Vec<3> e = x_mid.col(load.facets((b + 2) % 3, k)) - x_mid.col(load.facets((b + 1) % 3, k));
-          dA << 0.0, -e.z(), e.y(), e.z(), 0.0, -e.x(), -e.y(), e.x(), 0.0;
-          dA *= 0.5;
-        }
-        for (int a = 0; a < D; ++a) {
+    const double c = factor_[l] * load.pressure * 0.5;  // g ∋ −f = p s_a: ∂g/∂u_{n+1} = ½ p ∂s_a/∂x_{n+½}
+    with_facet_order<D>(load, [&]<class I>(I) {
+      for (int k = 0; k < load.facets.cols(); ++k) {
+        const auto d = I::area_share_derivatives(facet_nodes<I, D>(load, k, x_mid), load.thickness);
+        for (int a = 0; a < I::kNodes; ++a) {
           if (!model.owns(load.facets(a, k))) continue;  // another rank's row
-          for (int i = 0; i < D; ++i)
-            for (int j = 0; j < D; ++j)
-              K.coeffRef(load.facets(a, k) * D + i, load.facets(b, k) * D + j) -= c * dA(i, j);
+          for (int b = 0; b < I::kNodes; ++b) {
+            const Mat<D>& dab = d[static_cast<std::size_t>(a * I::kNodes + b)];
+            for (int i = 0; i < D; ++i)
+              for (int j = 0; j < D; ++j)
+                K.coeffRef(load.facets(a, k) * D + i, load.facets(b, k) * D + j) += c * dab(i, j);
+          }
         }
       }
+    });
   }
 }
 

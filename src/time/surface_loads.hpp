@@ -2,11 +2,12 @@
 /// −f_ext of the surface loads (model/loads.hpp) and of a gravity that
 /// follows a curve, as a step term (time/step_terms.hpp). A load's curve
 /// is taken at the step's mid-point time; a follower pressure acts on the
-/// facets' mid-point configuration, f_a = −p A(x_{n+½})/D at each of a
-/// facet's D nodes (A its outward area vector), which on a closed surface
-/// has no resultant and no moment (∮ n da = 0, ∮ x × n da = 0: equal
-/// shares put each facet's force at its centroid), so L and J are kept.
-/// The work f·Δu of the loads without a potential is counted
+/// facets' mid-point configuration, f_a = −p ∫ N_a n da at x_{n+½}, and a
+/// nominal traction gives f_a = t ∫ N_a dA_0 (fem/facet_integrals.hpp: A/D
+/// per node of a P1 facet, the integral of the quadratic shape functions on
+/// a P2 one). The pressures' rule is exact, so on a closed surface they
+/// have no resultant and no moment (∮ n da = 0, ∮ x × n da = 0) and L and J
+/// are kept. The work f·Δu of the loads without a potential is counted
 /// (external_work).
 #include "time/step_terms.hpp"
 
@@ -36,8 +37,8 @@ class SurfaceLoads final : public StepTerm<D> {
   double start_force_ = 0.0, start_energy_ = 0.0;
 };
 
-/// The nodal forces of a constant nominal traction (reference areas, equal
-/// shares), the conservative loads' potential −F·u's F.
+/// The nodal forces of a constant nominal traction (∫ N_a dA_0 on the
+/// reference facets), the conservative loads' potential −F·u's F.
 template <int D>
 Eigen::VectorXd conservative_load(const model::Model<D>& model);
 

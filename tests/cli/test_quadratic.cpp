@@ -118,7 +118,7 @@ kind = "frictionless"
   const CliResult r = run_cli("check s.toml", dir);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("quadratic facets are not available"));
+  EXPECT_THAT(r.err, HasSubstr("contact on quadratic facets is not available"));
 }
 
 TEST(QuadraticCli, AnOrderOtherThanOneOrTwoIsRefused) {

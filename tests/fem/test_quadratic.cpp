@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fem/element.hpp"
+#include "fem/facet_integrals.hpp"
 #include "fem/lagrange.hpp"
 #include "fem/quadratic.hpp"
 #include "fem/quadrature.hpp"
@@ -294,6 +295,81 @@ TEST(QuadraticElement, FoldedMidsideNodeIsNotPositive) {
   EXPECT_GT(min_jacobian<3>(X), 0.0);
   X.col(4) = X.col(0) + 0.1 * (X.col(1) - X.col(0));  // node 4 of edge (0, 1) pushed near vertex 0
   EXPECT_LT(min_jacobian<3>(X), 0.0);
+}
+
+// Surface-load shares on flat / straight quadratic facets in closed form
+// (tri6: 0 at the vertices, A/3 at the midsides; line3: 1/6, 1/6, 2/3 of
+// the length), the same area vector as the linear facet, and a P1 facet's
+// equal shares A/D.
+TEST(FacetIntegrals, SharesOfStraightFacetsInClosedForm) {
+  Eigen::Matrix<double, 3, 6> tri;
+  tri.leftCols<3>() << 0.0, 2.0, 0.5, 0.0, 0.0, 1.5, 0.3, 0.3, 0.3;
+  for (int e = 0; e < 3; ++e) {
+    const auto [a, b] = Lagrange<2, 2>::edges()[static_cast<std::size_t>(e)];
+    tri.col(3 + e) = 0.5 * (tri.col(a) + tri.col(b));
+  }
+  const Vec3 area = 0.5 * Vec3(tri.col(1) - tri.col(0)).cross(Vec3(tri.col(2) - tri.col(0)));
+  const auto s6 = FacetIntegrals<3, 2>::area_shares(tri, 1.0);
+  const auto m6 = FacetIntegrals<3, 2>::measure_shares(tri, 1.0);
+  const auto s3 = FacetIntegrals<3, 1>::area_shares(tri.leftCols<3>(), 1.0);
+  for (int a = 0; a < 6; ++a) {
+    const double expected = a < 3 ? 0.0 : 1.0 / 3.0;
+    EXPECT_LT((s6.col(a) - expected * area).norm(), 1e-15 * area.norm()) << a;
+    EXPECT_NEAR(m6(a), expected * area.norm(), 1e-15 * area.norm()) << a;
+  }
+  for (int a = 0; a < 3; ++a) EXPECT_LT((s3.col(a) - area / 3.0).norm(), 1e-15 * area.norm());
+  Eigen::Matrix<double, 2, 3> line;
+  line << 0.0, 3.0, 1.5, 0.0, 4.0, 2.0;  // length 5
+  const double t = 0.2;
+  const auto s = FacetIntegrals<2, 2>::area_shares(line, t);
+  const auto m = FacetIntegrals<2, 2>::measure_shares(line, t);
+  const Vec<2> outward = t * Vec<2>(4.0, -3.0);  // t (y_ξ, −x_ξ)
+  const Vec3 fraction(1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LT((s.col(a) - fraction(a) * outward).norm(), 1e-15 * outward.norm()) << a;
+    EXPECT_NEAR(m(a), fraction(a) * 5.0 * t, 1e-15) << a;
+  }
+}
+
+// ∂s_a/∂x_b by the Taylor test on curved facets of either order and
+// dimension (3D: the remainder of order 2; 2D: s is linear in x, the
+// remainder round-off), with a guard that the derivative is not zero.
+template <int D, int P>
+void check_share_derivative() {
+  using I = FacetIntegrals<D, P>;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.1, 0.1);
+  typename I::Nodes x;
+  for (int a = 0; a < I::kNodes; ++a) {
+    const auto xi = I::Shape::node(a);
+    x.col(a).setZero();
+    x.col(a).template head<D - 1>() = xi;
+    for (int i = 0; i < D; ++i) x(i, a) += u(rng);
+  }
+  const auto d = I::area_share_derivatives(x, 0.7);
+  Eigen::Matrix<double, D * I::kNodes, 1> dir;
+  for (int i = 0; i < dir.size(); ++i) dir(i) = u(rng);
+  const auto value = [&](const Eigen::VectorXd& y) {
+    const typename I::Nodes xn = x + Eigen::Map<const typename I::Nodes>(y.data());
+    return Eigen::VectorXd(I::area_shares(xn, 0.7).reshaped());
+  };
+  Eigen::VectorXd slope = Eigen::VectorXd::Zero(D * I::kNodes);
+  for (int a = 0; a < I::kNodes; ++a)
+    for (int b = 0; b < I::kNodes; ++b)
+      slope.segment<D>(D * a) += d[static_cast<std::size_t>(a * I::kNodes + b)] * dir.template segment<D>(D * b);
+  EXPECT_GT(slope.norm(), 1e-3);
+  const test::TaylorOrder t = test::taylor_order(value, Eigen::VectorXd::Zero(D * I::kNodes),
+                                                 Eigen::VectorXd(dir), slope, 1e-1);
+  std::printf("[ measured ] facet area shares %dD P%d: %s\n", D, P, test::describe(t).c_str());
+  if constexpr (D == 2)
+    test::expect_exact(t, "area shares");  // linear in x: the remainder is round-off
+  else
+    test::expect_second_order(t, "area shares");
+}
+
+TEST(FacetIntegrals, AreaShareDerivativeMatchesDifferences) {
+  check_share_derivative<2, 1>(), check_share_derivative<2, 2>();
+  check_share_derivative<3, 1>(), check_share_derivative<3, 2>();
 }
 
 }  // namespace

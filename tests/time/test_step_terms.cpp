@@ -31,8 +31,10 @@ struct Fixture {
   Eigen::VectorXd u_np1;
   static constexpr double dt = 0.01;
 
-  Fixture() {
-    model::add_body<3>(model, test::box_mesh(3, 2, 2, 1.0, 0.4, 0.3), "block",
+  /// order 2: the box's 10-node tetrahedra with curved edges (test::quadratic_mesh).
+  explicit Fixture(int order = 1) {
+    const mesh::Mesh box = test::box_mesh(3, 2, 2, 1.0, 0.4, 0.3);
+    model::add_body<3>(model, order == 1 ? box : test::quadratic_mesh(box, 0.05), "block",
                        std::make_shared<const material::Svk>(material::Lame::from_young_poisson(5.0e4, 0.3)), 1000.0, 1.0);
     model.gravity = Vec3(0.0, 0.0, -9.81);
     assembler = std::make_unique<assembly::Assembler<3>>(model, false);
@@ -87,17 +89,19 @@ TEST(StepTerms, EachDerivativeMatchesDifferencesOfItsValue) {
 }
 
 // A follower pressure on the whole boundary and a traction on one face
-// (each with a curve): the pressure's derivative (its area vectors at the
-// mid-point configuration) by the Taylor test, a remainder of order 2; the
-// traction's is zero. On the closed surface the pressure has no resultant
-// and no moment.
-TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferences) {
-  Fixture f;
+// (each with a curve), on linear and on curved quadratic facets: the
+// pressure's derivative (its area vectors at the mid-point configuration)
+// by the Taylor test, a remainder of order 2; the traction's is zero. On
+// the closed surface the pressure has no resultant and no moment (exact
+// for a P2 surface by the degree-4 rule).
+void check_surface_load_derivative(int order) {
+  Fixture f(order);
   f.model.prescribed.curves.push_back(model::Curve{{0.0, 1.0}, {0.5, 2.0}});
   model::SurfaceLoad pressure;
   pressure.kind = model::SurfaceLoad::Kind::pressure;
   pressure.body = 0;
   pressure.facets = contact::make_surface<3>(f.model, 0, "boundary").facets;
+  ASSERT_EQ(pressure.facets.rows(), order == 1 ? 3 : 6);
   pressure.pressure = 2.0e3;
   pressure.curve = 0;
   model::SurfaceLoad traction;
@@ -108,7 +112,7 @@ TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferences) {
   SurfaceLoads<3> loads(*f.assembler);
   loads.begin(f.start, Fixture::dt);
   const test::TaylorOrder t = derivative_order(loads, f.u_np1, f.assembler->pattern().make_matrix());
-  std::printf("[ measured ] surface loads: %s\n", test::describe(t).c_str());
+  std::printf("[ measured ] surface loads, order %d: %s\n", order, test::describe(t).c_str());
   test::expect_second_order(t, "surface loads");
   // The pressure alone: no resultant, no moment about the origin at the mid-point configuration.
   f.model.loads = {pressure};
@@ -123,11 +127,16 @@ TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferences) {
     resultant += force;
     moment += x.cross(force);
   }
-  std::printf("[ measured ] follower pressure on a closed surface: resultant %.2e N, moment %.2e N m (of %.2e N)\n",
-              resultant.norm(), moment.norm(), m.norm());
+  std::printf("[ measured ] follower pressure on a closed surface, order %d: resultant %.2e N, moment %.2e N m (of "
+              "%.2e N)\n",
+              order, resultant.norm(), moment.norm(), m.norm());
+  EXPECT_GT(m.norm(), 1.0);
   EXPECT_LT(resultant.norm(), 1e-12 * m.norm());
   EXPECT_LT(moment.norm(), 1e-12 * m.norm());
 }
+
+TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferences) { check_surface_load_derivative(1); }
+TEST(StepTerms, SurfaceLoadDerivativeMatchesDifferencesOnCurvedQuadraticFacets) { check_surface_load_derivative(2); }
 
 // (20): g = (2/Δt²) M Δu − (2/Δt) M V_n + f_int(u_n, u_{n+1}) − f_ext.
 TEST(StepTerms, SumIsThePaperResidual) {
