@@ -90,4 +90,25 @@ Mat3 cauchy_stress(const QuadraticGeometry<D>& g, const material::Law& law, cons
 template <int D>
 double min_det_F(const QuadraticGeometry<D>& g, const QuadraticNodes<D>& x);
 
+/// Quadratic cells with the cell's mean dilatation (fem/mean_dilatation.hpp,
+/// the near-incompressibility option): W = Σ_q w_q ρ0Ψ(C̄_q), f_A = Σ_q w_q
+/// F_{n+½,q} S_q ∇N_A(ξ_q) with the joint discrete gradient S_q (conserving:
+/// exact energy; S symmetric: L and J) or S_q(C(F_{n+½})) (midpoint), and
+/// its tangent, which couples the cell's points through J̄.
+template <int D>
+QuadraticNodes<D> internal_force_mean_dilatation(const QuadraticGeometry<D>& g, const material::Law& law,
+                                                 const CellStart<D>* start, const QuadraticNodes<D>& x_np1,
+                                                 StressScheme scheme);
+template <int D>
+void internal_force_tangent_mean_dilatation(const QuadraticGeometry<D>& g, const material::Law& law,
+                                            const CellStart<D>* start, const QuadraticNodes<D>& x_np1,
+                                            StressScheme scheme, QuadraticNodes<D>& f, QuadraticMatrix<D>& K);
+template <int D>
+double strain_energy_mean_dilatation(const QuadraticGeometry<D>& g, const material::Law& law,
+                                     const QuadraticNodes<D>& x);
+/// The volume-weighted mean of J⁻¹ F S_q Fᵀ (S_q of fem/mean_dilatation.hpp) [Pa].
+template <int D>
+Mat3 cauchy_stress_mean_dilatation(const QuadraticGeometry<D>& g, const material::Law& law,
+                                   const QuadraticNodes<D>& x);
+
 }  // namespace conserve::fem

@@ -154,8 +154,20 @@ Step<D> random_step(std::mt19937& rng, double size) {
 
 const material::Svk kSvk(material::Lame::from_young_poisson(1.0e4, 0.3));
 
+/// The pointwise kernels, or the mean-dilatation ones (`mean`).
 template <int D>
-void check_tangent(StressScheme scheme, const material::Law& law, const std::string& name) {
+QuadraticNodes<D> force_of(bool mean, const Step<D>& s, const material::Law& law, const QuadraticNodes<D>& x,
+                           StressScheme scheme) {
+  return mean ? internal_force_mean_dilatation<D>(s.g, law, s.start.data(), x, scheme)
+              : internal_force<D>(s.g, law, s.start.data(), x, scheme);
+}
+template <int D>
+double energy_of(bool mean, const Step<D>& s, const material::Law& law, const QuadraticNodes<D>& x) {
+  return mean ? strain_energy_mean_dilatation<D>(s.g, law, x) : strain_energy<D>(s.g, law, x);
+}
+
+template <int D>
+void check_tangent(StressScheme scheme, const material::Law& law, const std::string& name, bool mean = false) {
   constexpr int N = D * Quadratic<D>::kNodes;
   std::mt19937 rng(11);
   test::TaylorOrder worst;
@@ -163,20 +175,23 @@ void check_tangent(StressScheme scheme, const material::Law& law, const std::str
     const Step<D> s = random_step<D>(rng, 0.1);
     QuadraticNodes<D> f;
     QuadraticMatrix<D> K;
-    internal_force_tangent<D>(s.g, law, s.start.data(), s.x_np1, scheme, f, K);
+    if (mean)
+      internal_force_tangent_mean_dilatation<D>(s.g, law, s.start.data(), s.x_np1, scheme, f, K);
+    else
+      internal_force_tangent<D>(s.g, law, s.start.data(), s.x_np1, scheme, f, K);
     ASSERT_GT(K.norm(), 1.0);  // non-zero guard
-    EXPECT_LT((f - internal_force<D>(s.g, law, s.start.data(), s.x_np1, scheme)).norm(), 1e-12 * f.norm());
+    EXPECT_LT((f - force_of<D>(mean, s, law, s.x_np1, scheme)).norm(), 1e-12 * f.norm());
     auto force = [&](const Eigen::VectorXd& x) {
-      return Eigen::VectorXd(
-          internal_force<D>(s.g, law, s.start.data(), QuadraticNodes<D>(x.reshaped(D, N / D)), scheme).reshaped());
+      return Eigen::VectorXd(force_of<D>(mean, s, law, QuadraticNodes<D>(x.reshaped(D, N / D)), scheme).reshaped());
     };
     const Eigen::VectorXd d = test::random_direction(rng, N);
     const test::TaylorOrder t = test::taylor_order(force, s.x_np1.reshaped(), d, K * d, 1e-3 * 0.1);
     test::expect_second_order(t, name + " trial " + std::to_string(trial));
     worst = trial == 0 ? t : test::worse(t, worst);
   }
-  std::printf("[ measured ] quadratic element tangent (%s, %dD, %s), 10 curved cells: worst %s\n", name.c_str(), D,
-              scheme == StressScheme::conserving ? "conserving" : "midpoint", test::describe(worst).c_str());
+  std::printf("[ measured ] quadratic element tangent (%s, %dD, %s%s), 10 curved cells: worst %s\n", name.c_str(), D,
+              scheme == StressScheme::conserving ? "conserving" : "midpoint", mean ? ", mean dilatation" : "",
+              test::describe(worst).c_str());
 }
 
 TEST(QuadraticElement, TangentEveryLaw) {
@@ -194,13 +209,14 @@ TEST(QuadraticElement, TangentEveryLaw) {
 // Paper (25)–(26) on curved quadratic cells: Σ f_A = 0, Σ x_{A,n+½} × f_A = 0
 // and, conserving only, Σ f_A·Δx_A = W_{n+1} − W_n.
 template <int D>
-double energy_identity_error(StressScheme scheme, const material::Law& law, const std::string& name) {
+double energy_identity_error(StressScheme scheme, const material::Law& law, const std::string& name,
+                             bool mean = false) {
   std::mt19937 rng(5);
   double worst = 0.0;
   for (int trial = 0; trial < 30; ++trial) {
     const Step<D> s = random_step<D>(rng, 1.0);
-    const QuadraticNodes<D> f = internal_force<D>(s.g, law, s.start.data(), s.x_np1, scheme);
-    const double W1 = strain_energy<D>(s.g, law, s.x_np1), W0 = strain_energy<D>(s.g, law, s.x_n);
+    const QuadraticNodes<D> f = force_of<D>(mean, s, law, s.x_np1, scheme);
+    const double W1 = energy_of<D>(mean, s, law, s.x_np1), W0 = energy_of<D>(mean, s, law, s.x_n);
     const double work = (f.array() * (s.x_np1 - s.x_n).array()).sum();
     worst = std::max(worst, std::abs(work - (W1 - W0)) / (W1 + W0));
     EXPECT_LT(f.rowwise().sum().norm(), 1e-12 * f.norm());
@@ -215,8 +231,8 @@ double energy_identity_error(StressScheme scheme, const material::Law& law, cons
     }
     EXPECT_LT(std::abs(moment), 1e-12 * f.norm() * x_mid.norm());
   }
-  std::printf("[ measured ] quadratic: max |Σf·Δx − ΔW| / W (%s, %dD, %s): %.3e\n", name.c_str(), D,
-              scheme == StressScheme::conserving ? "conserving" : "midpoint", worst);
+  std::printf("[ measured ] quadratic: max |Σf·Δx − ΔW| / W (%s, %dD, %s%s): %.3e\n", name.c_str(), D,
+              scheme == StressScheme::conserving ? "conserving" : "midpoint", mean ? ", mean dilatation" : "", worst);
   return worst;
 }
 
@@ -229,6 +245,32 @@ TEST(QuadraticElement, ConservingEnergyIsExactForEveryLaw) {
     EXPECT_LT(energy_identity_error<2>(StressScheme::conserving, *law, c.model), 1e-12) << c.model;
     EXPECT_LT(energy_identity_error<3>(StressScheme::conserving, *law, c.model), 1e-12) << c.model;
     EXPECT_GT(energy_identity_error<2>(StressScheme::midpoint, *law, c.model), 1e-3) << c.model;
+  }
+}
+
+// The mean-dilatation kernels (fem/mean_dilatation.hpp): the tangent's
+// remainder of order 2, the conserving work exact, the momenta kept, for
+// every law including SVK (through its point law, not Simo–Tarnow).
+TEST(QuadraticElement, MeanDilatationTangentEveryLaw) {
+  for (StressScheme scheme : {StressScheme::conserving, StressScheme::midpoint}) {
+    check_tangent<2>(scheme, kSvk, "svk", true);
+    check_tangent<3>(scheme, kSvk, "svk", true);
+    for (const auto& c : material::test::law_cases()) {
+      const auto law = material::test::make(c);
+      check_tangent<2>(scheme, *law, c.model, true);
+      check_tangent<3>(scheme, *law, c.model, true);
+    }
+  }
+}
+
+TEST(QuadraticElement, MeanDilatationEnergyIsExactForEveryLaw) {
+  EXPECT_LT(energy_identity_error<2>(StressScheme::conserving, kSvk, "svk", true), 1e-12);
+  EXPECT_LT(energy_identity_error<3>(StressScheme::conserving, kSvk, "svk", true), 1e-12);
+  for (const auto& c : material::test::law_cases()) {
+    const auto law = material::test::make(c);
+    EXPECT_LT(energy_identity_error<2>(StressScheme::conserving, *law, c.model, true), 1e-12) << c.model;
+    EXPECT_LT(energy_identity_error<3>(StressScheme::conserving, *law, c.model, true), 1e-12) << c.model;
+    EXPECT_GT(energy_identity_error<3>(StressScheme::midpoint, *law, c.model, true), 1e-3) << c.model;
   }
 }
 
