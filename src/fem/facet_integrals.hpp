@@ -49,7 +49,7 @@ struct FacetIntegrals {
       s.colwise() = area / D;
     } else {
       s.setZero();
-      const auto rule = quadrature<D - 1, D == 2 ? 3 : 4>();
+      static const auto rule = quadrature<D - 1, D == 2 ? 3 : 4>();
       for (int q = 0; q < rule.kPoints; ++q) {
         const auto& xi = rule.points[static_cast<std::size_t>(q)];
         const Vec<D> c = rule.weights[static_cast<std::size_t>(q)] * area_density(x, Shape::dshape(xi), thickness);
@@ -69,7 +69,7 @@ struct FacetIntegrals {
       m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
       return m;
     };
-    const auto rule = quadrature<D - 1, D == 2 ? 3 : 4>();
+    static const auto rule = quadrature<D - 1, D == 2 ? 3 : 4>();
     for (int q = 0; q < rule.kPoints; ++q) {
       const auto& xi = rule.points[static_cast<std::size_t>(q)];
       const double w = rule.weights[static_cast<std::size_t>(q)];
@@ -99,7 +99,7 @@ struct FacetIntegrals {
       return Eigen::Matrix<double, kNodes, 1>::Constant(area_shares(x, thickness).col(0).norm());
     } else {
       Eigen::Matrix<double, kNodes, 1> m = Eigen::Matrix<double, kNodes, 1>::Zero();
-      const auto rule = quadrature<D - 1, D == 2 ? 5 : 4>();
+      static const auto rule = quadrature<D - 1, D == 2 ? 5 : 4>();
       for (int q = 0; q < rule.kPoints; ++q) {
         const auto& xi = rule.points[static_cast<std::size_t>(q)];
         m += rule.weights[static_cast<std::size_t>(q)] * area_density(x, Shape::dshape(xi), thickness).norm() *
