@@ -46,12 +46,15 @@ struct Kind<D, 1> {
     *s = fem::cell_start<D>(g, x);
   }
   static Nodes force(const fem::SimplexGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
-                     const Nodes& x, fem::StressScheme scheme) {
+                     const Nodes& x, fem::StressScheme scheme, bool /*mean: order 2 only*/) {
     return fem::internal_force<D>(g, law, *s, x, scheme);
   }
   static void force_tangent(const fem::SimplexGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
-                            const Nodes& x, fem::StressScheme scheme, Nodes& f, Matrix& K) {
+                            const Nodes& x, fem::StressScheme scheme, bool /*mean*/, Nodes& f, Matrix& K) {
     fem::internal_force_tangent<D>(g, law, *s, x, scheme, f, K);
+  }
+  static double energy(const fem::SimplexGeometry<D>& g, const material::Law& law, const Nodes& x, bool /*mean*/) {
+    return fem::strain_energy<D>(g, law, x);
   }
   static double min_det(const fem::CellStart<D>* s) { return s->F.determinant(); }
 };
@@ -65,13 +68,21 @@ struct Kind<D, 2> {
   static void start(const fem::QuadraticGeometry<D>& g, const Nodes& x, fem::CellStart<D>* s) {
     fem::cell_start<D>(g, x, s);
   }
+  /// `mean`: the body's cells take the cell's mean dilatation (model::Body).
   static Nodes force(const fem::QuadraticGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
-                     const Nodes& x, fem::StressScheme scheme) {
-    return fem::internal_force<D>(g, law, s, x, scheme);
+                     const Nodes& x, fem::StressScheme scheme, bool mean) {
+    return mean ? fem::internal_force_mean_dilatation<D>(g, law, s, x, scheme)
+                : fem::internal_force<D>(g, law, s, x, scheme);
   }
   static void force_tangent(const fem::QuadraticGeometry<D>& g, const material::Law& law, const fem::CellStart<D>* s,
-                            const Nodes& x, fem::StressScheme scheme, Nodes& f, Matrix& K) {
-    fem::internal_force_tangent<D>(g, law, s, x, scheme, f, K);
+                            const Nodes& x, fem::StressScheme scheme, bool mean, Nodes& f, Matrix& K) {
+    if (mean)
+      fem::internal_force_tangent_mean_dilatation<D>(g, law, s, x, scheme, f, K);
+    else
+      fem::internal_force_tangent<D>(g, law, s, x, scheme, f, K);
+  }
+  static double energy(const fem::QuadraticGeometry<D>& g, const material::Law& law, const Nodes& x, bool mean) {
+    return mean ? fem::strain_energy_mean_dilatation<D>(g, law, x) : fem::strain_energy<D>(g, law, x);
   }
   static double min_det(const fem::CellStart<D>* s) {
     double lowest = s[0].F.determinant();
@@ -266,7 +277,7 @@ void Assembler<D>::add_internal_force(const StepStart& start, const Eigen::Vecto
       const int c = parts.visit_cell[v];
       const typename K::Nodes fe =
           K::force(K::geometry(model_, c), law(c), &start[static_cast<std::size_t>(pattern_.local_cell(c)) * Q],
-                   positions<K::kNodes>(c, u_np1), scheme);
+                   positions<K::kNodes>(c, u_np1), scheme, mean_dilatation(c));
       for (int a = 0; a < K::kNodes; ++a) {
         if (!(parts.visit_owned[v] >> a & 1u)) continue;
         const int at = (model_.cells(a, c) - first) * D;
@@ -330,7 +341,7 @@ void Assembler<D>::add_tangent(const StepStart& start, const Eigen::VectorXd& u_
       const CornerMask owned = parts.visit_owned[v];
       Cell::force_tangent(Cell::geometry(model_, c), law(c),
                           &start[static_cast<std::size_t>(pattern_.local_cell(c)) * Q],
-                          positions<Cell::kNodes>(c, u_np1), scheme, fe, Ke);
+                          positions<Cell::kNodes>(c, u_np1), scheme, mean_dilatation(c), fe, Ke);
       if (f)
         for (int a = 0; a < Cell::kNodes; ++a) {
           if (!(owned >> a & 1u)) continue;
@@ -379,7 +390,7 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
       const typename K::Nodes x = positions<K::kNodes>(c, u);
       std::array<fem::CellStart<D>, K::kPoints> start;
       K::start(g, x, start.data());
-      const typename K::Nodes fe = K::force(g, law(c), start.data(), x, fem::StressScheme::conserving);
+      const typename K::Nodes fe = K::force(g, law(c), start.data(), x, fem::StressScheme::conserving, mean_dilatation(c));
       for (int a = 0; a < K::kNodes; ++a)
         if (owned >> a & 1u) local.segment<D>((model_.cells(a, c) - first) * D) += fe.col(a);
       // The cell's start: by the part that owns its lowest corner on this
@@ -390,7 +401,7 @@ const typename Assembler<D>::StateMeasures& Assembler<D>::measures(const Eigen::
       if (!(owned >> lowest & 1u)) continue;
       std::copy(start.begin(), start.end(), cells->begin() + static_cast<std::ptrdiff_t>(pattern_.local_cell(c)) * Q);
       if (lowest != 0) continue;
-      W[static_cast<std::size_t>(c)] = fem::strain_energy<D>(g, law(c), x);
+      W[static_cast<std::size_t>(c)] = K::energy(g, law(c), x, mean_dilatation(c));
       det[static_cast<std::size_t>(c)] = K::min_det(start.data());
     }
     f.segment(first * D, size) += local;
@@ -435,7 +446,7 @@ template <int D>
 double Assembler<D>::strain_energy(const Eigen::VectorXd& u) const {
   const std::vector<double> W = per_cell(model_.num_cells(), [&](int c) {
     if (model_.order == 2)
-      return fem::strain_energy<D>(model_.quadratic[c], law(c), positions<Kind<D, 2>::kNodes>(c, u));
+      return Kind<D, 2>::energy(model_.quadratic[c], law(c), positions<Kind<D, 2>::kNodes>(c, u), mean_dilatation(c));
     return fem::strain_energy<D>(model_.geometry[c], law(c), cell_positions(c, u));
   });
   double sum = 0.0;

@@ -159,6 +159,7 @@ class Assembler {
 
  private:
   [[nodiscard]] const material::Law& law(int cell) const { return *model_.bodies[model_.cell_body[cell]].law; }
+  [[nodiscard]] bool mean_dilatation(int cell) const { return model_.bodies[model_.cell_body[cell]].mean_dilatation; }
   /// body(std::integral_constant<int, order>) for the model's cell order.
   template <class Body>
   void by_order(const Body& body) const;

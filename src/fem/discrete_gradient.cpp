@@ -10,7 +10,7 @@ AlgorithmicStress discrete_gradient(const material::Law& law, const Mat3& C_n, c
   const Mat3 C_mid = 0.5 * (C_n + C_np1), dC = C_np1 - C_n;
   AlgorithmicStress a;
   a.S = law.stress(C_mid);
-  const double r = law.energy_change(C_n, C_np1) - 0.5 * a.S.cwiseProduct(dC).sum();
+  const double r = law.energy_change(C_n, dC) - 0.5 * a.S.cwiseProduct(dC).sum();
   const double dCdC = dC.squaredNorm();
   const material::Lame lame = law.small_strain();
   const double noise = kRoundOffMultiple * std::numeric_limits<double>::epsilon() *

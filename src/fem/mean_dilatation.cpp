@@ -6,6 +6,13 @@
 #include "fem/discrete_gradient.hpp"
 
 namespace conserve::fem {
+
+double fluctuation_share(const material::Law& law, int dim) {
+  const material::Lame lame = law.small_strain();
+  const double bulk = lame.lambda + 2.0 * lame.mu / dim;
+  return bulk > lame.mu ? std::sqrt(lame.mu / bulk) : 1.0;
+}
+
 namespace {
 
 using material::Mat9;
@@ -19,8 +26,12 @@ struct Bar {
   std::array<Mat3, Q> par, par_inv, C_bar, S_bar;  ///< C^∥, (C^∥)⁻¹ (in-plane in 2D), C̄_q, S(C̄_q)
   std::array<double, Q> J, alpha, P;
   double V0 = 0.0, J_bar = 0.0, P_bar = 0.0, d = 3.0;
+  double beta = 0.0;   ///< the share of J_q kept, fluctuation_share(law, d)
+  double gamma = 0.0;  ///< the exponent of α_q, (1 − β) 2/d
 
-  Bar(const material::Law& law, const DilatationCell<Q>& cell) : d(cell.dim) {
+  /// `stresses`: also S̄_q, P_q and P̄ (not needed for C̄ alone).
+  Bar(const material::Law& law, const DilatationCell<Q>& cell, bool stresses = true)
+      : d(cell.dim), beta(fluctuation_share(law, cell.dim)), gamma((1.0 - beta) * 2.0 / d) {
     for (int q = 0; q < Q; ++q) {
       const Mat3& C = cell.C[static_cast<std::size_t>(q)];
       Mat3& par_q = par[static_cast<std::size_t>(q)];
@@ -39,9 +50,10 @@ struct Bar {
     }
     J_bar /= V0;
     for (std::size_t q = 0; q < Q; ++q) {
-      alpha[q] = std::pow(J_bar / J[q], 2.0 / d);
+      alpha[q] = std::pow(J_bar / J[q], gamma);
       C_bar[q] = alpha[q] * par[q];
       if (cell.dim == 2) C_bar[q](2, 2) = 1.0;
+      if (!stresses) continue;
       S_bar[q] = law.stress(C_bar[q]);
       P[q] = alpha[q] * contract(S_bar[q], par[q]) / d;
       P_bar += cell.w[q] * P[q];
@@ -66,10 +78,10 @@ std::array<Mat3, Q> mean_dilatation_stress(const material::Law& law, const Dilat
   const Bar<Q> b(law, cell);
   std::array<Mat3, Q> S;
   for (std::size_t q = 0; q < Q; ++q)
-    S[q] = b.alpha[q] * b.S_bar[q] + (b.P_bar * b.J[q] / b.J_bar - b.P[q]) * b.par_inv[q];
+    S[q] = b.alpha[q] * b.S_bar[q] + (1.0 - b.beta) * (b.P_bar * b.J[q] / b.J_bar - b.P[q]) * b.par_inv[q];
   if (dS == nullptr) return S;
   // Directional derivatives along sym(e_k e_lᵀ) at one point p, by the chain
-  // dJ_p = ½ J_p C_p^{∥−1}:δC, dJ̄ = w_p dJ_p / V_0, dα_q = (2/d) α_q (dJ̄/J̄ − dJ_q/J_q),
+  // dJ_p = ½ J_p C_p^{∥−1}:δC, dJ̄ = w_p dJ_p / V_0, dα_q = γ α_q (dJ̄/J̄ − dJ_q/J_q),
   // dC̄_q = dα_q C_q^∥ + α_q δC_q, dS̄_q = ½ ℂ(C̄_q):dC̄_q (material/law.hpp's ℂ), then P, P̄, S.
   std::array<Mat9, Q> tangent;
   for (std::size_t q = 0; q < Q; ++q) tangent[q] = law.tangent(b.C_bar[q]);
@@ -87,7 +99,7 @@ std::array<Mat3, Q> mean_dilatation_stress(const material::Law& law, const Dilat
         double dP_bar = 0.0;
         for (std::size_t q = 0; q < Q; ++q) {
           const double dJ_q = q == p ? dJ_p : 0.0;
-          dalpha[q] = (2.0 / b.d) * b.alpha[q] * (dJ_bar / b.J_bar - dJ_q / b.J[q]);
+          dalpha[q] = b.gamma * b.alpha[q] * (dJ_bar / b.J_bar - dJ_q / b.J[q]);
           const Mat3 dC_bar = dalpha[q] * b.par[q] + (q == p ? Mat3(b.alpha[q] * dC) : Mat3::Zero());
           const Vec9 v = 0.5 * tangent[q] * Eigen::Map<const Vec9>(dC_bar.data());
           dS_bar[q] = Eigen::Map<const Mat3>(v.data());
@@ -99,9 +111,9 @@ std::array<Mat3, Q> mean_dilatation_stress(const material::Law& law, const Dilat
         dP_bar /= b.V0;
         for (std::size_t q = 0; q < Q; ++q) {
           const double dJ_q = q == p ? dJ_p : 0.0;
-          const double pressure = b.P_bar * b.J[q] / b.J_bar - b.P[q];
-          const double dpressure = dP_bar * b.J[q] / b.J_bar + b.P_bar * dJ_q / b.J_bar -
-                                   b.P_bar * b.J[q] * dJ_bar / (b.J_bar * b.J_bar) - dP[q];
+          const double pressure = (1.0 - b.beta) * (b.P_bar * b.J[q] / b.J_bar - b.P[q]);
+          const double dpressure = (1.0 - b.beta) * (dP_bar * b.J[q] / b.J_bar + b.P_bar * dJ_q / b.J_bar -
+                                                     b.P_bar * b.J[q] * dJ_bar / (b.J_bar * b.J_bar) - dP[q]);
           Mat3 d = dalpha[q] * b.S_bar[q] + b.alpha[q] * dS_bar[q] + dpressure * b.par_inv[q];
           if (q == p) d -= pressure * b.par_inv[q] * dC * b.par_inv[q];
           (*dS)[q * Q + p].col(k + 3 * l) = Eigen::Map<const Vec9>(d.data());
@@ -119,18 +131,28 @@ std::array<Mat3, Q> mean_dilatation_discrete_gradient(const material::Law& law, 
   std::array<Mat3, Q> S = mean_dilatation_stress<Q>(law, mid, dS);
   if (dS != nullptr)
     for (auto& block : *dS) block *= 0.5;  // C_mid moves by half of C_{n+1}
-  const Bar<Q> b_n(law, start), b_np1(law, end);
+  const Bar<Q> b_n(law, start, false);
   std::array<Mat3, Q> dC;
+  std::array<double, Q> dlog_J;  // ln J_{q,n+1} − ln J_{q,n}, from ΔC_q
+  double dJ_bar = 0.0;
+  for (std::size_t q = 0; q < Q; ++q) {
+    dC[q] = end.C[q] - start.C[q];
+    dlog_J[q] = 0.5 * material::log_det_ratio(start.C[q], dC[q]);
+    dJ_bar += start.w[q] * b_n.J[q] * std::expm1(dlog_J[q]);
+  }
+  const double dlog_J_bar = std::log1p(dJ_bar / (b_n.V0 * b_n.J_bar));
   double r = 0.0, dCdC = 0.0, scale = 0.0;
   const material::Lame lame = law.small_strain();
   for (std::size_t q = 0; q < Q; ++q) {
-    dC[q] = end.C[q] - start.C[q];
-    r += start.w[q] * (law.energy_change(b_n.C_bar[q], b_np1.C_bar[q]) - 0.5 * contract(S[q], dC[q]));
+    // ΔC̄_q = α_{n+1} ΔC_q + Δα_q C^∥_{q,n}, Δα_q = α_n expm1(γ Δln(J̄/J_q)): from ΔC, so that
+    // r carries round-off ε M |ΔC| (as fem/discrete_gradient.hpp's), not ε M |C|.
+    const double dalpha = b_n.alpha[q] * std::expm1(b_n.gamma * (dlog_J_bar - dlog_J[q]));
+    const Mat3 dC_bar = (b_n.alpha[q] + dalpha) * dC[q] + dalpha * b_n.par[q];
+    r += start.w[q] * (law.energy_change(b_n.C_bar[q], dC_bar) - 0.5 * contract(S[q], dC[q]));
     dCdC += start.w[q] * dC[q].squaredNorm();
     scale += start.w[q] * (S[q].norm() + (lame.lambda + 2.0 * lame.mu) * mid.C[q].norm());
   }
-  const double noise =
-      kRoundOffMultiple * std::numeric_limits<double>::epsilon() * scale * std::sqrt(dCdC / b_n.V0);
+  const double noise = kRoundOffMultiple * std::numeric_limits<double>::epsilon() * scale * std::sqrt(dCdC / b_n.V0);
   if (!(dCdC > 0.0) || !(std::abs(r) > noise)) return S;  // the mid-point value
   const double k = 2.0 / dCdC;
   if (dS != nullptr) {

@@ -62,6 +62,9 @@ struct BodySpec {
   /// u0(X) = (F0 - I)(X - c). Identity = undeformed. 2D uses the upper 2×2.
   Eigen::Matrix3d initial_deformation = Eigen::Matrix3d::Identity();
   double thickness = 1.0;  ///< out-of-plane thickness in 2D (plane strain) [m]
+  /// A quadratic cell's volume change at each point, or the cell's mean
+  /// (fem/mean_dilatation.hpp: nearly incompressible rubber).
+  bool mean_dilatation = false;
   /// All degrees of freedom prescribed (model/prescribed.hpp): the body
   /// translates at velocity · c_v(t) and turns at angular_velocity · c_ω(t)
   /// about `center` (its material is not used). Only a rigid body may be a

@@ -186,6 +186,9 @@ BodySpec parse_body(const Section& s, const std::filesystem::path& scenario_file
   body.angular_velocity = s.angular_velocity("angular_velocity");
   body.initial_deformation = parse_initial_deformation(s);
   body.thickness = parse_thickness(s);
+  body.mean_dilatation = s.string("dilatation") == "mean";
+  if (body.mean_dilatation && body.rigid)
+    s.fail("dilatation", "is not allowed on a rigid body", "no dilatation: a rigid body does not deform");
   body.material = parse_body_material(s, body.rigid, body.rigid && !body.free);
   if (body.free && !(body.material.density > 0.0))
     s.fail("material", "a free rigid body needs a density", "[body.material] with density > 0");

@@ -348,6 +348,14 @@ SectionSpec body_section() {
                .unit = "m",
                .min = above(0),
                .doc = "out-of-plane thickness; 2D only (an error in 3D)"},
+              {.name = "dilatation",
+               .type = KeyType::choice,
+               .default_value = "points",
+               .choices = {"points", "mean"},
+               .doc = "how a cell's volume change enters its energy: at each quadrature point, or `mean`, the "
+                      "cell's mean J at every point, with a share √(μ/κ) of the point's own (F-bar: nearly incompressible "
+                      "materials do not lock; docs/theory.md); "
+                      "`mean` needs `[body.mesh] order = 2` and a deformable body"},
               {.name = "material",
                .type = KeyType::table,
                .doc = "material, see [body.material]; required unless `rigid = true` (then it is still validated "

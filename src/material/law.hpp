@@ -47,13 +47,13 @@ class Law {
   virtual ~Law() = default;
   /// Stored energy per reference volume ρ0Ψ(C) [J/m³].
   [[nodiscard]] virtual double energy(const Mat3& C) const = 0;
-  /// ρ0Ψ(C_{n+1}) − ρ0Ψ(C_n) [J/m³]. The discrete gradient divides it by
+  /// ρ0Ψ(C + ΔC) − ρ0Ψ(C) [J/m³]. The discrete gradient divides it by
   /// |ΔC|, so laws it serves compute it from ΔC with round-off of order
   /// ε·(their moduli)·|ΔC|, not as a difference of two energies (whose
-  /// round-off, ε·(moduli)·|C|, does not shrink with the step).
-  [[nodiscard]] virtual double energy_change(const Mat3& C_n, const Mat3& C_np1) const {
-    return energy(C_np1) - energy(C_n);
-  }
+  /// round-off, ε·(moduli)·|C|, does not shrink with the step). ΔC is an
+  /// argument so that a caller can form it more exactly than C + ΔC holds
+  /// it (fem/mean_dilatation.cpp).
+  [[nodiscard]] virtual double energy_change(const Mat3& C, const Mat3& dC) const { return energy(C + dC) - energy(C); }
   /// S = 2 ∂(ρ0Ψ)/∂C [Pa], symmetric.
   [[nodiscard]] virtual Mat3 stress(const Mat3& C) const = 0;
   /// ℂ = 4 ∂²(ρ0Ψ)/∂C∂C [Pa], with minor and major symmetries.

@@ -31,12 +31,11 @@ double MooneyRivlin::energy(const Mat3& C) const {
 // Each term's change from ΔC and d = ln J_{n+1} − ln J_n without
 // subtracting energies: J^a_{n+1} − J^a_n = J^a_n expm1(a d),
 // ΔI₁ = tr ΔC, ΔI₂ = ½(ΔI₁ (I₁ + I₁') − ΔC:(C + C')).
-double MooneyRivlin::energy_change(const Mat3& C_n, const Mat3& C_np1) const {
-  const Mat3 dC = C_np1 - C_n;
+double MooneyRivlin::energy_change(const Mat3& C_n, const Mat3& dC) const {
   const Invariants v = invariants(C_n);
   const double d = 0.5 * log_det_ratio(C_n, dC);
   const double dI1 = dC.trace(), I1_np1 = v.I1 + dI1;
-  const double dI2 = 0.5 * (dI1 * (v.I1 + I1_np1) - dC.cwiseProduct(C_n + C_np1).sum());
+  const double dI2 = 0.5 * (dI1 * (v.I1 + I1_np1) - dC.cwiseProduct(2.0 * C_n + dC).sum());
   const double a_n = std::pow(v.J, -2.0 / 3.0), b_n = std::pow(v.J, -4.0 / 3.0);
   const double da = a_n * std::expm1(-2.0 * d / 3.0), db = b_n * std::expm1(-4.0 * d / 3.0);
   const double dJ = v.J * std::expm1(d);
@@ -77,17 +76,18 @@ Lame MooneyRivlin::small_strain() const {
 }
 
 LawInfo mooney_rivlin_info() {
-  return {.doc = "compressible Mooney–Rivlin: ρ0Ψ = c₁₀ (Ī₁ − 3) + c₀₁ (Ī₂ − 3) + κ/2 (J − 1)², with Ī₁ = "
-                 "J^(−2/3) I₁, Ī₂ = J^(−4/3) I₂; small-strain shear modulus μ = 2(c₁₀ + c₀₁), bulk modulus κ; "
-                 "integrated with Gonzalez's discrete gradient.",
+  return {.doc =
+              "compressible Mooney–Rivlin: ρ0Ψ = c₁₀ (Ī₁ − 3) + c₀₁ (Ī₂ − 3) + κ/2 (J − 1)², with Ī₁ = "
+              "J^(−2/3) I₁, Ī₂ = J^(−4/3) I₂; small-strain shear modulus μ = 2(c₁₀ + c₀₁), bulk modulus κ; "
+              "integrated with Gonzalez's discrete gradient.",
           .parameters = {{.name = "c10", .unit = "Pa", .doc = "c₁₀ (c₁₀ + c₀₁ > 0)", .min = 0.0, .min_inclusive = true},
                          {.name = "c01", .unit = "Pa", .doc = "c₀₁", .min = 0.0, .min_inclusive = true},
                          {.name = "bulk", .unit = "Pa", .doc = "bulk modulus κ", .min = 0.0}},
           .make = [](const std::map<std::string, double>& p) -> std::shared_ptr<const Law> {
             const MooneyRivlinConstants k{p.at("c10"), p.at("c01"), p.at("bulk")};
             if (!(k.c10 + k.c01 > 0.0))
-              throw InputError(fmt::format("c10 + c01 = {} gives no shear stiffness (expected c10 + c01 > 0)",
-                                           k.c10 + k.c01));
+              throw InputError(
+                  fmt::format("c10 + c01 = {} gives no shear stiffness (expected c10 + c01 > 0)", k.c10 + k.c01));
             return std::make_shared<MooneyRivlin>(k);
           }};
 }

@@ -20,7 +20,7 @@ class MooneyRivlin final : public Law {
  public:
   explicit MooneyRivlin(const MooneyRivlinConstants& k) : k_(k) {}
   [[nodiscard]] double energy(const Mat3& C) const override;
-  [[nodiscard]] double energy_change(const Mat3& C_n, const Mat3& C_np1) const override;
+  [[nodiscard]] double energy_change(const Mat3& C_n, const Mat3& dC) const override;
   [[nodiscard]] Mat3 stress(const Mat3& C) const override;
   [[nodiscard]] Mat9 tangent(const Mat3& C) const override;
   [[nodiscard]] Lame small_strain() const override;

@@ -10,6 +10,7 @@ class Svk final : public Law {
  public:
   explicit Svk(const Lame& lame) : lame_(lame) {}
   [[nodiscard]] double energy(const Mat3& C) const override;
+  [[nodiscard]] double energy_change(const Mat3& C, const Mat3& dC) const override;
   [[nodiscard]] Mat3 stress(const Mat3& C) const override;
   [[nodiscard]] Mat9 tangent(const Mat3& C) const override;
   [[nodiscard]] Lame small_strain() const override { return lame_; }

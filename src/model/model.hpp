@@ -30,6 +30,8 @@ struct Body {
   /// Named boundary facet groups, in global node numbers (dim × n).
   std::map<std::string, Eigen::MatrixXi> facet_groups;
   double thickness = 1.0;  ///< out-of-plane size in 2D [m] (1 in 3D)
+  /// Quadratic cells with the cell's mean dilatation (fem/mean_dilatation.hpp).
+  bool mean_dilatation = false;
 };
 
 

@@ -98,6 +98,7 @@ void add_body(Builder& f, const io::BodySpec& spec, const model::Model<D>& model
     h.value(body.density);
   });
   f.setting(name + "thickness", fmt::format("{}", spec.thickness));
+  f.setting(name + "dilatation", spec.mean_dilatation ? "mean" : "points");
   f.setting(name + "motion", spec.free ? "free rigid" : spec.rigid ? "prescribed rigid" : "deformable");
   f.setting(name + "velocity", components(spec.velocity, D));
   f.setting(name + "angular_velocity",

@@ -236,8 +236,13 @@ void OutputWriter<D>::write_vtu(const model::State& state) {
       W = fem::strain_energy<D>(model.geometry[c], law, x);
     } else {
       const auto x = assembler_.template positions<fem::Quadratic<D>::kNodes>(c, state.u);
-      sigma = fem::cauchy_stress<D>(model.quadratic[c], law, x);
-      W = fem::strain_energy<D>(model.quadratic[c], law, x);
+      if (model.bodies[model.cell_body[c]].mean_dilatation) {
+        sigma = fem::cauchy_stress_mean_dilatation<D>(model.quadratic[c], law, x);
+        W = fem::strain_energy_mean_dilatation<D>(model.quadratic[c], law, x);
+      } else {
+        sigma = fem::cauchy_stress<D>(model.quadratic[c], law, x);
+        W = fem::strain_energy<D>(model.quadratic[c], law, x);
+      }
     }
     stress.values.insert(stress.values.end(),
                          {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(0, 2)});

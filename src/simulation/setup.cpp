@@ -101,8 +101,12 @@ void add_body(const io::Scenario& scenario, std::size_t i, const mesh::Mesh& mes
     throw body_error(scenario, i, mesh_key,
                      "the mesh has no cells; a free rigid body needs them (its mass, centre and inertia come from "
                      "them and its density)");
+  if (spec.mean_dilatation && mesh.order() != 2)
+    throw body_error(scenario, i, "dilatation",
+                     "`mean` needs quadratic cells ([body.mesh] order = 2, or a .msh file of second-order elements)");
   at_key(scenario, i, mesh_key,
          [&] { model::add_body<D>(model, mesh, spec.name, std::move(law), material.density, spec.thickness); });
+  model.bodies.back().mean_dilatation = spec.mean_dilatation;
 }
 
 /// The index of curve `name` in the model's curves (−1 for none).

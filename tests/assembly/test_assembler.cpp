@@ -5,9 +5,9 @@
 #include <random>
 #include <string>
 
-#include "material/svk_law.hpp"
 #include "assembly/assembler.hpp"
 #include "assembly/dirichlet.hpp"
+#include "material/svk_law.hpp"
 #include "support/grid_mesh.hpp"
 #include "support/taylor.hpp"
 
@@ -18,8 +18,10 @@ template <int D>
 model::Model<D> small_model() {
   model::Model<D> m;
   const auto mesh = D == 3 ? test::box_mesh(3, 2, 2, 0.6, 0.4, 0.4) : test::rectangle_mesh(4, 3, 0.8, 0.6);
-  model::add_body<D>(m, mesh, "a", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(1e5, 0.3)), 1200.0, 0.5);
-  model::add_body<D>(m, mesh, "b", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(3e5, 0.2)), 800.0, 0.5);
+  model::add_body<D>(m, mesh, "a", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(1e5, 0.3)),
+                     1200.0, 0.5);
+  model::add_body<D>(m, mesh, "b", std::make_shared<const material::Svk>(material::Lame::from_young_poisson(3e5, 0.2)),
+                     800.0, 0.5);
   return m;
 }
 
@@ -27,8 +29,7 @@ model::Model<D> small_model() {
 // the internal force along random directions of u_{n+1} (a remainder of
 // order 2, support/taylor.hpp).
 template <int D>
-void check_global_tangent() {
-  const model::Model<D> model = small_model<D>();
+void check_global_tangent(const model::Model<D>& model) {
   const Assembler<D> assembler(model, false);
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(-0.05, 0.05);
@@ -54,8 +55,27 @@ void check_global_tangent() {
   }
 }
 
-TEST(Assembler, GlobalTangentMatchesFiniteDifferences2d) { check_global_tangent<2>(); }
-TEST(Assembler, GlobalTangentMatchesFiniteDifferences3d) { check_global_tangent<3>(); }
+TEST(Assembler, GlobalTangentMatchesFiniteDifferences2d) { check_global_tangent<2>(small_model<2>()); }
+TEST(Assembler, GlobalTangentMatchesFiniteDifferences3d) { check_global_tangent<3>(small_model<3>()); }
+
+// The same with curved quadratic cells of a nearly incompressible
+// neo-Hookean body with the mean dilatation (fem/mean_dilatation.hpp).
+template <int D>
+model::Model<D> mean_dilatation_model() {
+  model::Model<D> m;
+  const auto mesh = test::quadratic_mesh(
+      D == 3 ? test::box_mesh(3, 2, 2, 0.6, 0.4, 0.4) : test::rectangle_mesh(4, 3, 0.8, 0.6), 0.03);
+  model::add_body<D>(m, mesh, "a", material::make_law("neo_hookean", {{"young", 1e5}, {"poisson", 0.4999}}), 1200.0,
+                     0.5);
+  m.bodies[0].mean_dilatation = true;
+  return m;
+}
+TEST(Assembler, MeanDilatationTangentMatchesFiniteDifferences2d) {
+  check_global_tangent<2>(mean_dilatation_model<2>());
+}
+TEST(Assembler, MeanDilatationTangentMatchesFiniteDifferences3d) {
+  check_global_tangent<3>(mean_dilatation_model<3>());
+}
 
 template <int D>
 void check_mass(bool lumped) {

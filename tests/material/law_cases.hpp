@@ -18,11 +18,11 @@ struct LawCase {
 };
 
 /// svk, neo_hookean and mooney_rivlin (c10 = 3c01, μ = 2(c10 + c01) and κ
-/// those of E = `young` [Pa], ν = 0.3).
-inline std::vector<LawCase> law_cases(double young = 1.0e6) {
-  const Lame l = Lame::from_young_poisson(young, 0.3);
-  return {{"svk", {{"young", young}, {"poisson", 0.3}}},
-          {"neo_hookean", {{"young", young}, {"poisson", 0.3}}},
+/// those of E = `young` [Pa], ν = `poisson`).
+inline std::vector<LawCase> law_cases(double young = 1.0e6, double poisson = 0.3) {
+  const Lame l = Lame::from_young_poisson(young, poisson);
+  return {{"svk", {{"young", young}, {"poisson", poisson}}},
+          {"neo_hookean", {{"young", young}, {"poisson", poisson}}},
           {"mooney_rivlin", {{"c10", 0.375 * l.mu}, {"c01", 0.125 * l.mu}, {"bulk", l.lambda + 2.0 * l.mu / 3.0}}}};
 }
 
