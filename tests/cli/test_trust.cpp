@@ -176,11 +176,16 @@ TEST(Trust, DriftOfABodyDroppedFromRestIsMeaningful) {
 }
 
 /// A head-on impact of two boxes on the x axis: J stays at zero, up to
-/// round-off (a cradle used to print J drift 1.96e+03).
+/// round-off (a cradle used to print J drift 1.96e+03). Full Newton: with
+/// kept tangents, conforming faces stop some gaps' runs at the cutback
+/// floor, which ones depending on the CPU's libm (this gap on one
+/// machine; docs/validation.md, "What is weaker than hoped").
 const std::string kHeadOn = R"(dimension = 3
 [time]
 step = 1e-3
 end = 0.03
+[solver]
+modified_newton = false
 [output]
 vtu_every = 0
 [[body]]
