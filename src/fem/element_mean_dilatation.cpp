@@ -116,7 +116,7 @@ void internal_force_tangent_mean_dilatation(const QuadraticGeometry<D>& g, const
       QuadraticNodes<D> df = QuadraticNodes<D>::Zero();
       for (std::size_t q = 0; q < Q; ++q) {
         Vec9 dS = Vec9::Zero();
-        for (std::size_t p = 0; p < Q; ++p) dS += s.dS[q * Q + p] * dC[p];
+        for (std::size_t p = 0; p < Q; ++p) dS += s.dS[q * Q + p].lazyProduct(dC[p]);
         const Mat<D> dSq = Eigen::Map<const Mat3>(dS.data()).template topLeftCorner<D, D>();
         const auto& grad = points[q].grad;
         const double w = points[q].volume;
@@ -151,16 +151,15 @@ Mat3 cauchy_stress_mean_dilatation(const QuadraticGeometry<D>& g, const material
   return sigma / g.volume;
 }
 
-#define CONSERVE_INSTANTIATE(D)                                                                                   \
-  template QuadraticNodes<D> internal_force_mean_dilatation<D>(const QuadraticGeometry<D>&, const material::Law&, \
-                                                               const CellStart<D>*, const QuadraticNodes<D>&,     \
-                                                               StressScheme);                                     \
-  template void internal_force_tangent_mean_dilatation<D>(const QuadraticGeometry<D>&, const material::Law&,      \
-                                                          const CellStart<D>*, const QuadraticNodes<D>&,          \
-                                                          StressScheme, QuadraticNodes<D>&, QuadraticMatrix<D>&); \
-  template double strain_energy_mean_dilatation<D>(const QuadraticGeometry<D>&, const material::Law&,             \
-                                                   const QuadraticNodes<D>&);                                     \
-  template Mat3 cauchy_stress_mean_dilatation<D>(const QuadraticGeometry<D>&, const material::Law&,               \
+#define CONSERVE_INSTANTIATE(D)                                                                                        \
+  template QuadraticNodes<D> internal_force_mean_dilatation<D>(                                                        \
+      const QuadraticGeometry<D>&, const material::Law&, const CellStart<D>*, const QuadraticNodes<D>&, StressScheme); \
+  template void internal_force_tangent_mean_dilatation<D>(const QuadraticGeometry<D>&, const material::Law&,           \
+                                                          const CellStart<D>*, const QuadraticNodes<D>&, StressScheme, \
+                                                          QuadraticNodes<D>&, QuadraticMatrix<D>&);                    \
+  template double strain_energy_mean_dilatation<D>(const QuadraticGeometry<D>&, const material::Law&,                  \
+                                                   const QuadraticNodes<D>&);                                          \
+  template Mat3 cauchy_stress_mean_dilatation<D>(const QuadraticGeometry<D>&, const material::Law&,                    \
                                                  const QuadraticNodes<D>&);
 CONSERVE_INSTANTIATE(2)
 CONSERVE_INSTANTIATE(3)

@@ -83,15 +83,27 @@ std::array<Mat3, Q> mean_dilatation_stress(const material::Law& law, const Dilat
   // Directional derivatives along sym(e_k e_lᵀ) at one point p, by the chain
   // dJ_p = ½ J_p C_p^{∥−1}:δC, dJ̄ = w_p dJ_p / V_0, dα_q = γ α_q (dJ̄/J̄ − dJ_q/J_q),
   // dC̄_q = dα_q C_q^∥ + α_q δC_q, dS̄_q = ½ ℂ(C̄_q):dC̄_q (material/law.hpp's ℂ), then P, P̄, S.
+  // ½ℂ:C^∥ and its contraction with C^∥ once per point; ½ℂ:δC along sym(e_k e_lᵀ) is ¼ of two
+  // columns of ℂ. Both orders (k, l) give one column: computed for k ≤ l.
   std::array<Mat9, Q> tangent;
-  for (std::size_t q = 0; q < Q; ++q) tangent[q] = law.tangent(b.C_bar[q]);
+  std::array<Mat3, Q> T_par;
+  std::array<double, Q> SP, TP;
+  for (std::size_t q = 0; q < Q; ++q) {
+    tangent[q] = law.tangent(b.C_bar[q]);
+    const Vec9 v = 0.5 * tangent[q].lazyProduct(Eigen::Map<const Vec9>(b.par[q].data()));
+    T_par[q] = Eigen::Map<const Mat3>(v.data());
+    SP[q] = contract(b.S_bar[q], b.par[q]);
+    TP[q] = contract(T_par[q], b.par[q]);
+  }
   const int n = cell.dim;
   for (std::size_t p = 0; p < Q; ++p) {
     for (std::size_t q = 0; q < Q; ++q) (*dS)[q * Q + p].setZero();
     for (int k = 0; k < n; ++k)
-      for (int l = 0; l < n; ++l) {
+      for (int l = k; l < n; ++l) {
         Mat3 dC = Mat3::Zero();
         dC(k, l) += 0.5, dC(l, k) += 0.5;
+        const Vec9 column = 0.25 * (tangent[p].col(k + 3 * l) + tangent[p].col(l + 3 * k));
+        const Mat3 T_dC = Eigen::Map<const Mat3>(column.data());  // ½ℂ_p:δC
         const double dJ_p = 0.5 * b.J[p] * contract(b.par_inv[p], dC);
         const double dJ_bar = cell.w[p] * dJ_p / b.V0;
         std::array<double, Q> dalpha, dP;
@@ -100,12 +112,13 @@ std::array<Mat3, Q> mean_dilatation_stress(const material::Law& law, const Dilat
         for (std::size_t q = 0; q < Q; ++q) {
           const double dJ_q = q == p ? dJ_p : 0.0;
           dalpha[q] = b.gamma * b.alpha[q] * (dJ_bar / b.J_bar - dJ_q / b.J[q]);
-          const Mat3 dC_bar = dalpha[q] * b.par[q] + (q == p ? Mat3(b.alpha[q] * dC) : Mat3::Zero());
-          const Vec9 v = 0.5 * tangent[q] * Eigen::Map<const Vec9>(dC_bar.data());
-          dS_bar[q] = Eigen::Map<const Mat3>(v.data());
-          dP[q] = (dalpha[q] * contract(b.S_bar[q], b.par[q]) + b.alpha[q] * contract(dS_bar[q], b.par[q]) +
-                   (q == p ? b.alpha[q] * contract(b.S_bar[q], dC) : 0.0)) /
-                  b.d;
+          dS_bar[q] = dalpha[q] * T_par[q];
+          dP[q] = dalpha[q] * (SP[q] + b.alpha[q] * TP[q]);
+          if (q == p) {
+            dS_bar[q] += b.alpha[q] * T_dC;
+            dP[q] += b.alpha[q] * (b.alpha[q] * contract(T_dC, b.par[q]) + contract(b.S_bar[q], dC));
+          }
+          dP[q] /= b.d;
           dP_bar += cell.w[q] * dP[q];
         }
         dP_bar /= b.V0;
@@ -116,7 +129,9 @@ std::array<Mat3, Q> mean_dilatation_stress(const material::Law& law, const Dilat
                                                      b.P_bar * b.J[q] * dJ_bar / (b.J_bar * b.J_bar) - dP[q]);
           Mat3 d = dalpha[q] * b.S_bar[q] + b.alpha[q] * dS_bar[q] + dpressure * b.par_inv[q];
           if (q == p) d -= pressure * b.par_inv[q] * dC * b.par_inv[q];
-          (*dS)[q * Q + p].col(k + 3 * l) = Eigen::Map<const Vec9>(d.data());
+          auto& block = (*dS)[q * Q + p];
+          block.col(k + 3 * l) = Eigen::Map<const Vec9>(d.data());
+          if (l != k) block.col(l + 3 * k) = block.col(k + 3 * l);
         }
       }
   }
@@ -162,7 +177,7 @@ std::array<Mat3, Q> mean_dilatation_discrete_gradient(const material::Law& law, 
       // g_p, with (*dS) already ½ ∂S/∂C_p(C_mid): ¼ Σ_q w_q (∂S_q/∂C_p)ᵀ ΔC_q = ½ Σ_q w_q dS_qpᵀ ΔC_q.
       Vec9 g = Eigen::Map<const Vec9>(Mat3(0.5 * start.w[p] * (S_end[p] - S[p])).data());
       for (std::size_t q = 0; q < Q; ++q)
-        g -= 0.5 * start.w[q] * (*dS)[q * Q + p].transpose() * Eigen::Map<const Vec9>(dC[q].data());
+        g -= 0.5 * start.w[q] * (*dS)[q * Q + p].transpose().lazyProduct(Eigen::Map<const Vec9>(dC[q].data()));
       for (std::size_t q = 0; q < Q; ++q) {
         const Eigen::Map<const Vec9> dq(dC[q].data()), dp(dC[p].data());
         Mat9& block = (*dS)[q * Q + p];
