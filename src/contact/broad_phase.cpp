@@ -1,5 +1,7 @@
 #include "contact/broad_phase.hpp"
 
+#include "contact/curved_facet.hpp"
+
 #include <algorithm>
 #include <array>
 
@@ -13,10 +15,18 @@ constexpr int kLeafSize = 4;
 template <int D>
 using Box = Eigen::AlignedBox<double, D>;
 
-/// The axis-aligned box of facet f's nodes. The tree and the oracle both use
-/// this, so that their answers are bit-for-bit the same.
+/// The axis-aligned box of facet f: of its nodes if linear, of its Bézier
+/// control points if quadratic (CurvedFacet::box: a curved facet leaves
+/// its nodes' box). The tree and the oracle both use this, so that their
+/// answers are bit-for-bit the same.
 template <int D>
 Box<D> facet_box(const Eigen::MatrixXi& facets, const Positions<D>& x, int f) {
+  if (facets.rows() != D) {
+    typename CurvedFacet<D>::Nodes nodes;
+    for (int i = 0; i < CurvedFacet<D>::kNodes; ++i) nodes.col(i) = x.col(facets(i, f));
+    const auto [lo, hi] = CurvedFacet<D>::box(nodes);
+    return Box<D>(lo, hi);
+  }
   Box<D> box(x.col(facets(0, f)));
   for (int i = 1; i < D; ++i) box.extend(x.col(facets(i, f)));
   return box;

@@ -15,7 +15,8 @@ using Positions = Eigen::Matrix<double, D, Eigen::Dynamic>;
 template <int D>
 class FacetTree {
  public:
-  /// Builds the tree over `facets` (D × n, node numbers into `x`).
+  /// Builds the tree over `facets` (D × n linear facets, or 3 × n / 6 × n
+  /// quadratic ones; node numbers into `x`).
   void build(const Eigen::MatrixXi& facets, const Positions<D>& x);
   /// Updates the boxes for moved nodes, keeping the tree's topology (O(n)).
   /// Queries stay exact; only their speed depends on how much things moved.

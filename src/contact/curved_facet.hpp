@@ -9,7 +9,9 @@
 /// H⁻¹ [τᵀ(δx_s − Σ N_b δx_b) + (x_s − x̄)·Σ N_b,α δx_b].
 #include <array>
 #include <cmath>
+#include <algorithm>
 #include <limits>
+#include <tuple>
 
 #include "contact/facet.hpp"
 #include "fem/lagrange.hpp"
@@ -130,6 +132,56 @@ CurvedProjection<D> project_curved(const Vec<D>& x_s, const typename CurvedFacet
   p.normal = F::normal(x, xi);
   p.gap = (x_s - p.point).dot(p.normal);
   return out;
+}
+
+/// The point of the closed quadratic facet nearest to x_s, given x_s's
+/// projection p on its surface (project_curved): p itself when inside,
+/// else the nearest point of its border: a vertex (2D) or, in 3D, the
+/// best of each 3-node edge curve (Newton on its parameter t ∈ [0, 1],
+/// clamped, from the chord's clamped projection; its ends compared too).
+/// Returns its ξ (inside the facet), the distance [m] and the point.
+template <int D>
+std::tuple<Xi<D>, double, Vec<D>> closest_point_on_curved(const Vec<D>& x_s, const typename CurvedFacet<D>::Nodes& x,
+                                                         const Projection<D>& p) {
+  using F = CurvedFacet<D>;
+  if (p.inside()) return {p.xi, (x_s - p.point).norm(), p.point};
+  std::tuple<Xi<D>, double, Vec<D>> best{Xi<D>::Zero(), std::numeric_limits<double>::infinity(), Vec<D>::Zero()};
+  const auto offer = [&](const Xi<D>& xi) {
+    const Vec<D> y = F::point(x, xi);
+    const double d = (x_s - y).norm();
+    if (d < std::get<1>(best)) best = {xi, d, y};
+  };
+  if constexpr (D == 2) {
+    offer(Xi<2>::Zero());
+    offer(Xi<2>::Ones());
+  } else {
+    using Line = fem::Lagrange<1, 2>;
+    using Tri = typename F::Shape;
+    int m = 3;
+    for (const auto& [a, b] : Tri::edges()) {
+      Eigen::Matrix<double, 3, 3> e;  // the edge's line3: ends a, b, middle m
+      e << x.col(a), x.col(b), x.col(m++);
+      const Vec<3> chord = e.col(1) - e.col(0);
+      Vec<1> t(std::clamp((x_s - e.col(0)).dot(chord) / chord.squaredNorm(), 0.0, 1.0));
+      const Vec<3> dtt = 4.0 * (e.col(0) + e.col(1)) - 8.0 * e.col(2);  // x'' (constant on a line3)
+      for (int it = 0; it < 20; ++it) {
+        const Vec<3> d = x_s - e * Line::shape(t);
+        const Vec<3> dt = e * Line::dshape(t).transpose();
+        const double r = dt.dot(d);
+        double h = dt.squaredNorm() - d.dot(dtt);
+        if (h <= 0.0) h = dt.squaredNorm();
+        const double next = std::clamp(t(0) + r / h, 0.0, 1.0);
+        const double moved = std::abs(next - t(0));
+        t(0) = next;
+        if (moved <= 1e-15) break;
+      }
+      const Xi<3> ta = Tri::node(a), tb = Tri::node(b);
+      offer(Xi<3>(ta + t(0) * (tb - ta)));
+      offer(Xi<3>(ta));
+      offer(Xi<3>(tb));
+    }
+  }
+  return best;
 }
 
 }  // namespace conserve::contact

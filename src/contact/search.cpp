@@ -34,9 +34,9 @@ struct NearestChoice {
   double alignment = -std::numeric_limits<double>::infinity();
   double size = 0.0;
 
-  void offer(int facet, const Projection<D>& p, const Vec<D>& x_s, const FacetNodes<D>& x, double facet_size) {
-    const auto [xi, dist] = closest_point_on_facet<D>(x_s, x, p);
-    const Vec<D> offset = x_s - x * facet_shape<D>(xi);
+  /// p: x_s's projection on the facet; y, dist: the facet's nearest point and its distance.
+  void offer(int facet, const Projection<D>& p, const Vec<D>& x_s, const Vec<D>& y, double dist, double facet_size) {
+    const Vec<D> offset = x_s - y;
     const double norm = offset.norm();
     const double align = norm > 0.0 ? offset.dot(p.normal) / norm : 1.0;
     const double tie = 1e-12 * std::max(size, facet_size);
@@ -59,6 +59,21 @@ int exit_side(const Xi<D>& xi) {
   return k;
 }
 
+
+/// The point of closed facet f nearest to x_s, given x_s's projection p
+/// on it: (point, distance).
+template <int D>
+std::pair<Vec<D>, double> nearest_point(const Vec<D>& x_s, const ContactSurface& surface, int f,
+                                        const Positions<D>& x, const Projection<D>& p) {
+  if (quadratic<D>(surface)) {
+    const auto [xi, dist, y] = closest_point_on_curved<D>(x_s, curved_nodes<D>(surface, f, x), p);
+    return {y, dist};
+  }
+  const FacetNodes<D> nodes = facet_nodes<D>(surface, f, x);
+  const auto [xi, dist] = closest_point_on_facet<D>(x_s, nodes, p);
+  return {nodes * facet_shape<D>(xi), dist};
+}
+
 }  // namespace
 
 template <int D>
@@ -66,6 +81,21 @@ FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<
   FacetNodes<D> nodes;
   for (int i = 0; i < D; ++i) nodes.col(i) = x.col(surface.facets(i, f));
   return nodes;
+}
+
+template <int D>
+typename CurvedFacet<D>::Nodes curved_nodes(const ContactSurface& surface, int f, const Positions<D>& x) {
+  typename CurvedFacet<D>::Nodes nodes;
+  for (int i = 0; i < CurvedFacet<D>::kNodes; ++i) nodes.col(i) = x.col(surface.facets(i, f));
+  return nodes;
+}
+
+template <int D>
+Projection<D> project_on(const Vec<D>& x_s, const ContactSurface& surface, int f, const Positions<D>& x,
+                         FacetFrames<D>* frames) {
+  if (quadratic<D>(surface)) return project_curved<D>(x_s, curved_nodes<D>(surface, f, x)).projection;
+  const FacetNodes<D> nodes = facet_nodes<D>(surface, f, x);
+  return frames ? project<D>(x_s, frames->get(f, nodes)) : project<D>(x_s, nodes);
 }
 
 std::vector<int> near_nodes(const ContactSurface& surface, int node) {
@@ -96,15 +126,16 @@ std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& sur
   NearestChoice<D> nearest;
   for (const int f : candidates) {
     if (exclude && has_any(surface, f, *exclude)) continue;
-    const FacetNodes<D> nodes = facet_nodes<D>(surface, f, x);
-    const Projection<D> p = frames ? project<D>(x_s, frames->get(f, nodes)) : project<D>(x_s, nodes);
+    const Projection<D> p = project_on<D>(x_s, surface, f, x, frames);
     if (slave_normal && faces_same_way(p.normal, *slave_normal)) continue;
-    const double size = longest_edge<D>(nodes);
+    const double size = longest_edge<D>(facet_nodes<D>(surface, f, x));
     if (p.gap < -settings.depth_factor * size) continue;  // far side
-    if (p.inside(settings.inside_tolerance))
+    if (p.inside(settings.inside_tolerance)) {
       inside.offer(f, p);
-    else
-      nearest.offer(f, p, x_s, nodes, size);
+    } else {
+      const auto [y, dist] = nearest_point<D>(x_s, surface, f, x, p);
+      nearest.offer(f, p, x_s, y, dist, size);
+    }
   }
   // The nearest point of the surface: a facet it projects inside unless one
   // it projects outside of is nearer. A point behind a convex edge of a thin
@@ -119,7 +150,7 @@ std::optional<Match<D>> find_master(const Vec<D>& x_s, const ContactSurface& sur
 template <int D>
 Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface& surface, const Positions<D>& x,
                 double inside_tolerance, const Vec<D>* slave_normal) {
-  const Match<D> here{current.facet, project<D>(x_s, facet_nodes<D>(surface, current.facet, x))};
+  const Match<D> here{current.facet, project_on<D>(x_s, surface, current.facet, x)};
   // Walk across the edges (vertices) the projection leaves by; accept the
   // first facet where it is inside, else stay on `current`, extrapolated.
   Match<D> walk = here;
@@ -128,7 +159,7 @@ Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface
     const int next = surface.facet_neighbours(exit_side<D>(walk.projection.xi), walk.facet);
     if (next < 0 || std::find(visited.begin(), visited.end(), next) != visited.end()) return here;
     visited.push_back(next);
-    walk = Match<D>{next, project<D>(x_s, facet_nodes<D>(surface, next, x))};
+    walk = Match<D>{next, project_on<D>(x_s, surface, next, x)};
     if (slave_normal && faces_same_way(walk.projection.normal, *slave_normal)) return here;
   }
   return walk.projection.inside(inside_tolerance) ? walk : here;
@@ -155,7 +186,7 @@ bool over_surface(const Vec<D>& x_s, const Match<D>& m, const ContactSurface& su
     const int next = surface.facet_neighbours(exit_side<D>(walk.projection.xi), walk.facet);
     if (std::find(visited.begin(), visited.end(), next) != visited.end()) return true;
     visited.push_back(next);
-    walk = Match<D>{next, project<D>(x_s, facet_nodes<D>(surface, next, x))};
+    walk = Match<D>{next, project_on<D>(x_s, surface, next, x)};
   }
   return true;
 }
@@ -164,12 +195,20 @@ template <int D>
 Vec<D> node_normal(const ContactSurface& surface, std::size_t i, const Positions<D>& x) {
   Vec<D> normal = Vec<D>::Zero();
   for (const int f : surface.node_facets[i]) {
-    const Tangents<D> tau = facet_tangents<D>(facet_nodes<D>(surface, f, x));
+    const FacetNodes<D> chord = facet_nodes<D>(surface, f, x);
+    const Tangents<D> tau = facet_tangents<D>(chord);
     // area (length) × unit normal
+    Vec<D> c;
     if constexpr (D == 3)
-      normal += 0.5 * tau.col(0).cross(tau.col(1));
+      c = 0.5 * tau.col(0).cross(tau.col(1));
     else
-      normal += Vec<2>(tau(1, 0), -tau(0, 0));
+      c = Vec<2>(tau(1, 0), -tau(0, 0));
+    if (quadratic<D>(surface)) {  // the normal at the node, the chord's area
+      int a = 0;
+      while (surface.facets(a, f) != surface.nodes[i]) ++a;
+      c = c.norm() * CurvedFacet<D>::normal(curved_nodes<D>(surface, f, x), CurvedFacet<D>::Shape::node(a));
+    }
+    normal += c;
   }
   const double norm = normal.norm();
   return norm > 0.0 ? Vec<D>(normal / norm) : normal;
@@ -184,6 +223,9 @@ std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<
 
 #define CONSERVE_INSTANTIATE(D)                                                                                      \
   template FacetNodes<D> facet_nodes<D>(const ContactSurface&, int, const Positions<D>&);                            \
+  template typename CurvedFacet<D>::Nodes curved_nodes<D>(const ContactSurface&, int, const Positions<D>&);          \
+  template Projection<D> project_on<D>(const Vec<D>&, const ContactSurface&, int, const Positions<D>&,              \
+                                       FacetFrames<D>*);                                                           \
   template std::optional<Match<D>> find_master<D>(const Vec<D>&, const ContactSurface&, const FacetTree<D>&,         \
                                                   const Positions<D>&, const SearchSettings&,                        \
                                                   const std::optional<Vec<D>>&, FacetFrames<D>*,                     \

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "contact/broad_phase.hpp"
+#include "contact/curved_facet.hpp"
 #include "contact/facet.hpp"
 #include "contact/surface.hpp"
 
@@ -46,9 +47,28 @@ bool faces_same_way(const Vec<D>& n, const Vec<D>& m) {
   return n.dot(m) > 0.5;
 }
 
-/// Facet node positions of `surface.facets.col(f)` from all positions x.
+/// Positions of the vertices of `surface.facets.col(f)` (its first D
+/// nodes: the whole facet if linear, its chord if quadratic) from all
+/// positions x.
 template <int D>
 FacetNodes<D> facet_nodes(const ContactSurface& surface, int f, const Positions<D>& x);
+
+/// Whether the surface's facets are quadratic (3-node lines, 6-node
+/// triangles) rather than linear (D nodes).
+template <int D>
+bool quadratic(const ContactSurface& surface) {
+  return surface.facets.rows() != D;
+}
+/// Positions of all nodes of quadratic facet f.
+template <int D>
+typename CurvedFacet<D>::Nodes curved_nodes(const ContactSurface& surface, int f, const Positions<D>& x);
+
+/// The projection of x_s on facet f of `surface`: on its plane (line) if
+/// linear, from `frames` when given (project); on its curved surface if
+/// quadratic (project_curved).
+template <int D>
+Projection<D> project_on(const Vec<D>& x_s, const ContactSurface& surface, int f, const Positions<D>& x,
+                         FacetFrames<D>* frames = nullptr);
 
 /// The master facet of x_s: among the tree's candidates, discard far-side
 /// facets (see SearchSettings) and those that face the way the slave's
@@ -98,8 +118,9 @@ template <int D>
 Match<D> follow(const Vec<D>& x_s, const Match<D>& current, const ContactSurface& surface, const Positions<D>& x,
                 double inside_tolerance = 1e-10, const Vec<D>* slave_normal = nullptr);
 
-/// Outward unit normal at each surface node (area-weighted facet normals),
-/// aligned with surface.nodes.
+/// Outward unit normal at each surface node (the facets' normals at the
+/// node weighted by the facets' (chords') areas), aligned with
+/// surface.nodes.
 template <int D>
 std::vector<Vec<D>> node_normals(const ContactSurface& surface, const Positions<D>& x);
 /// The same at surface node surface.nodes[i] alone.

@@ -39,17 +39,18 @@ std::array<int, 3> facet_key(const Eigen::MatrixXi& facets, int f, int dim) {
 Eigen::MatrixXi union_of_groups(const model::Body& body, int dim) {
   std::set<std::array<int, 3>> seen;
   std::vector<int> columns;  // (group-major) facet columns kept
-  Eigen::MatrixXi all(dim, 0);
+  const Eigen::Index rows = body.facet_groups.empty() ? dim : body.facet_groups.begin()->second.rows();
+  Eigen::MatrixXi all(rows, 0);
   for (const auto& [name, group] : body.facet_groups) {
     const Eigen::Index start = all.cols();
-    all.conservativeResize(dim, start + group.cols());
+    all.conservativeResize(rows, start + group.cols());
     all.rightCols(group.cols()) = group;
     for (int f = 0; f < group.cols(); ++f) {
       const auto key = facet_key(all, static_cast<int>(start) + f, dim);
       if (seen.insert(key).second) columns.push_back(static_cast<int>(start) + f);
     }
   }
-  Eigen::MatrixXi out(dim, static_cast<Eigen::Index>(columns.size()));
+  Eigen::MatrixXi out(rows, static_cast<Eigen::Index>(columns.size()));
   for (std::size_t j = 0; j < columns.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = all.col(columns[j]);
   return out;
 }

@@ -3,10 +3,12 @@
 // build, refit (nodes moved) and rebuild.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "contact/broad_phase.hpp"
+#include "fem/lagrange.hpp"
 #include "mesh/generators.hpp"
 #include "mesh/topology.hpp"
 
@@ -162,6 +164,73 @@ TEST(BroadPhase, PaperMeshesMatchOracle) {
   mesh_surface_matches_oracle<3>("cylinder", {{"radius", 0.2}, {"length", 0.5}, {"size", 0.06}});
   mesh_surface_matches_oracle<2>("annulus", {{"inner_radius", 0.5}, {"outer_radius", 1.0}, {"size", 0.05}});
   mesh_surface_matches_oracle<2>("disc", {{"radius", 1.0}, {"size", 0.1}});
+}
+
+/// Quadratic facets leave their nodes' box (a 3-node line bulging through
+/// its middle node, a 6-node triangle with raised middles): found where
+/// the curve is, not where its nodes are.
+TEST(BroadPhase, QuadraticFacetsAreFoundWhereTheyBulge) {
+  Positions<2> x2(2, 3);
+  x2 << 0.0, 1.0, 0.5, 0.0, 0.0, 0.3;  // apex at y = 0.3: the curve x(½) passes through node 2
+  Eigen::MatrixXi line(3, 1);
+  line << 0, 1, 2;
+  FacetTree<2> tree2;
+  tree2.build(line, x2);
+  std::vector<int> out;
+  tree2.query(Vec<2>(0.5, 0.35), 0.1, out);
+  EXPECT_EQ(out, std::vector<int>{0});
+  tree2.query(Vec<2>(0.5, -0.15), 0.1, out);  // below the chord, beyond the radius
+  EXPECT_TRUE(out.empty());
+  Positions<3> x3(3, 6);
+  x3 << 0.0, 1.0, 0.0, 0.5, 0.5, 0.0,  //
+      0.0, 0.0, 1.0, 0.0, 0.5, 0.5,    //
+      0.0, 0.0, 0.0, 0.2, 0.2, 0.2;
+  Eigen::MatrixXi tri(6, 1);
+  tri << 0, 1, 2, 3, 4, 5;
+  FacetTree<3> tree3;
+  tree3.build(tri, x3);
+  tree3.query(Vec<3>(0.3, 0.3, 0.3), 0.05, out);  // the patch rises to z = 0.2 (at ξ = η = 1/3: 0.178)
+  EXPECT_EQ(out, std::vector<int>{0});
+}
+
+/// On a P2 sphere whose middle nodes are moved at random by up to 0.3 of
+/// a facet, every facet with a point within the radius of a query (box
+/// distance) is among the tree's answers, and the tree is the oracle.
+TEST(BroadPhase, QuadraticSurfaceMatchesOracleAndHoldsItsCurves) {
+  const mesh::Mesh mesh = mesh::generate_mesh(
+      "spherical_shell", {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.15}, {"order", 2}});
+  const Eigen::MatrixXi facets = mesh::boundary_facets(mesh);
+  ASSERT_EQ(facets.rows(), 6);
+  Positions<3> x = mesh.points.topRows(3);
+  std::mt19937 rng(17);
+  for (int f = 0; f < facets.cols(); ++f)
+    for (int m = 3; m < 6; ++m) x.col(facets(m, f)) += 0.3 * 0.15 * random_point<3>(rng, -1.0, 1.0);
+  FacetTree<3> tree;
+  tree.build(facets, x);
+  const auto points = queries<3>(rng, x, 1000, 7);
+  EXPECT_EQ(check_all_radii<3>(tree, facets, x, points, 1.0), 0);
+  using Tri = fem::Lagrange<2, 2>;
+  int missed = 0, near = 0;
+  std::vector<int> out;
+  for (const auto& p : points) {
+    const double r = 0.02;
+    tree.query(p, r, out);
+    for (int f = 0; f < facets.cols(); ++f) {
+      bool within = false;
+      for (int i = 0; i <= 12 && !within; ++i)
+        for (int j = 0; j <= 12 - i && !within; ++j) {
+          Vec<3> y = Vec<3>::Zero();
+          const auto N = Tri::shape(Vec<2>(i / 12.0, j / 12.0));
+          for (int a = 0; a < 6; ++a) y += N(a) * x.col(facets(a, f));
+          within = (y - p).lpNorm<Eigen::Infinity>() <= r;
+        }
+      if (!within) continue;
+      ++near;
+      if (!std::binary_search(out.begin(), out.end(), f)) ++missed;
+    }
+  }
+  EXPECT_GT(near, 100);
+  EXPECT_EQ(missed, 0);
 }
 
 }  // namespace

@@ -4,15 +4,21 @@
 // g), the linear facet's projection on a flat one, the Appendix 1
 // derivative δξ̄ = H⁻¹[τᵀ(δx_s − Σ N_b δx_b) + (x_s − x̄)·Σ N_b,α δx_b]
 // by the Taylor test (and without H's curvature term, a negative control
-// that fails), and the Bézier box that holds the facet.
+// that fails), the Bézier box that holds the facet, and the zero-work
+// kernels on curved masters: no work, resultant or moment, and their
+// automatic derivatives through the one-step projection exact.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <type_traits>
 
 #include "contact/curved_facet.hpp"
+#include "contact/elimination/zero_work.hpp"
 #include "support/taylor.hpp"
+
+#include <unsupported/Eigen/AutoDiff>
 
 namespace conserve::contact {
 namespace {
@@ -177,6 +183,138 @@ void check_box() {
 }
 
 TEST(CurvedFacet, BezierBoxHoldsTheFacet) { check_box<2>(), check_box<3>(); }
+
+template <int N>
+using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+
+/// x as AD variables (entry k has derivative e_k), plus `shift`.
+template <int N, int R, int C>
+Eigen::Matrix<AD<N>, R, C> ad_variables(const Eigen::Matrix<double, R, C>& x) {
+  Eigen::Matrix<AD<N>, R, C> y;
+  for (int k = 0; k < R * C; ++k) y(k) = AD<N>(x(k), N, k);
+  return y;
+}
+
+/// A slave 0.05 above a curved facet and a general step (every node moves,
+/// not rigidly): (slave, facet nodes) at the step's start and its
+/// displacements.
+template <int D>
+std::pair<zero_work::Nodes<D, double, CurvedFacet<D>::kNodes>, zero_work::Nodes<D, double, CurvedFacet<D>::kNodes>>
+curved_step() {
+  using F = CurvedFacet<D>;
+  zero_work::Nodes<D, double, F::kNodes> x_n, dx;
+  const auto m = curved_nodes<D>();
+  const Xi<D> xi = Xi<D>::Constant(0.3);
+  x_n.col(0) = F::point(m, xi) + 0.05 * F::normal(m, xi);
+  x_n.template rightCols<F::kNodes>() = m;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < dx.size(); ++k) dx(k) = 2e-3 * u(rng);
+  return {x_n, dx};
+}
+
+/// ā on a curved master does no work over the step, has no resultant and
+/// no moment about the mid-point configuration; the paper's a does work
+/// (the control), and the mid-point projection is project_curved's.
+template <int D>
+void check_curved_zero_work() {
+  constexpr int NF = CurvedFacet<D>::kNodes;
+  const auto [x_n, dx] = curved_step<D>();
+  const zero_work::Nodes<D, double, NF> x = x_n + dx, y = x - 0.5 * dx;
+  zero_work::Plane<D, double, NF> mid;
+  const auto abar = zero_work::frictionless_direction<D, double, NF>(x, dx, mid);
+  const auto a = zero_work::frictionless_direction<D, double, NF>(x, dx, mid, false);
+  const double scale = abar.norm() * dx.norm();
+  const double work = abar.cwiseProduct(dx).sum();
+  double moment = 0.0;
+  if constexpr (D == 3) {
+    Vec<3> j = Vec<3>::Zero();
+    for (int b = 0; b <= NF; ++b) j += Vec<3>(y.col(b)).cross(Vec<3>(abar.col(b)));
+    moment = j.norm();
+  } else {
+    for (int b = 0; b <= NF; ++b) moment += y(0, b) * abar(1, b) - y(1, b) * abar(0, b);
+  }
+  const CurvedProjection<D> c = project_curved<D>(y.col(0), y.template rightCols<NF>());
+  std::printf("[ measured ] %dD curved master: |ā·Δx| %.1e (a·Δx %.1e), |Σā| %.1e, |Σ y×ā| %.1e\n", D,
+              std::abs(work), std::abs(a.cwiseProduct(dx).sum()), abar.rowwise().sum().norm(), std::abs(moment));
+  EXPECT_LT(std::abs(work), 1e-14 * scale);
+  EXPECT_GT(std::abs(a.cwiseProduct(dx).sum()), 1e-3 * scale);
+  EXPECT_LT(abar.rowwise().sum().norm(), 1e-14 * abar.norm());
+  EXPECT_LT(std::abs(moment), 1e-14 * abar.norm() * y.norm());
+  EXPECT_LT((mid.xi - c.projection.xi).norm(), 1e-14);
+  EXPECT_NEAR(mid.gap, c.projection.gap, 1e-15);
+  EXPECT_LT((mid.shape - CurvedFacet<D>::Shape::shape(c.projection.xi)).norm(), 1e-14);
+}
+
+TEST(CurvedFacet, ZeroWorkDirectionDoesNoWorkAndHasNoResultantOrMoment) {
+  check_curved_zero_work<2>();
+  check_curved_zero_work<3>();
+}
+
+/// The derivative of the one-step projection (project_on_curved: ξ, n, g,
+/// N) by automatic differentiation is exact (Taylor order 2); without H's
+/// curvature term it is not (order 1), and neither are then the test
+/// columns of the frictionless kernel, whose own derivative (ā's turn,
+/// the shape weights') is exact with it.
+template <int D>
+void check_curved_kernel_derivatives() {
+  constexpr int NF = CurvedFacet<D>::kNodes;
+  constexpr int N = D * (NF + 1);
+  using Nodes = zero_work::Nodes<D, double, NF>;
+  const auto [x_n, dx0] = curved_step<D>();
+  const Nodes x0 = x_n + dx0;
+  std::mt19937 rng(4);
+  const Eigen::VectorXd dir = test::random_direction(rng, N);
+  const auto projected = [&](const auto& p) {
+    Eigen::VectorXd out(D - 1 + D + 1 + NF);
+    out << p.xi, p.normal, p.gap, p.shape;
+    return out;
+  };
+  const auto projection_of = [&](const Eigen::VectorXd& v) {
+    const Nodes x = x0 + Eigen::Map<const Nodes>(v.data());
+    return projected(zero_work::project_on_curved<D, double, NF>(x.col(0), x.template rightCols<NF>()));
+  };
+  const auto ad_slope = [&](bool curvature) {
+    const Eigen::Matrix<AD<N>, D, NF + 1> X = ad_variables<N>(x0);
+    const auto p = zero_work::project_on_curved<D, AD<N>, NF>(X.col(0), X.template rightCols<NF>(), curvature);
+    Eigen::VectorXd Jd(D - 1 + D + 1 + NF);
+    int k = 0;
+    for (int i = 0; i < D - 1; ++i) Jd(k++) = p.xi(i).derivatives().dot(dir);
+    for (int i = 0; i < D; ++i) Jd(k++) = p.normal(i).derivatives().dot(dir);
+    Jd(k++) = p.gap.derivatives().dot(dir);
+    for (int i = 0; i < NF; ++i) Jd(k++) = p.shape(i).derivatives().dot(dir);
+    return Jd;
+  };
+  const test::TaylorOrder full = test::taylor_order(projection_of, Eigen::VectorXd::Zero(N), dir, ad_slope(true), 1e-2);
+  const test::TaylorOrder flat = test::taylor_order(projection_of, Eigen::VectorXd::Zero(N), dir, ad_slope(false), 1e-2);
+  // The kernel's test columns, with dx = x − x_n (x_n held).
+  const auto columns_of = [&](const auto& t) {
+    using S = typename std::decay_t<decltype(t.master)>::Scalar;
+    Eigen::Matrix<S, Eigen::Dynamic, 1> out(t.master.size() + t.slip.size());
+    out << t.master.reshaped(), t.slip.reshaped();
+    return out;
+  };
+  const auto test_of = [&](const Eigen::VectorXd& v) {
+    const Nodes x = x0 + Eigen::Map<const Nodes>(v.data());
+    return Eigen::VectorXd(columns_of(zero_work::frictionless_test<D, double, NF>(x, x - x_n)));
+  };
+  const Eigen::Matrix<AD<N>, D, NF + 1> X = ad_variables<N>(x0);
+  const auto t = columns_of(zero_work::frictionless_test<D, AD<N>, NF>(X, X - x_n.template cast<AD<N>>()));
+  Eigen::VectorXd Jd(t.size());
+  for (Eigen::Index k = 0; k < t.size(); ++k) Jd(k) = t(k).derivatives().dot(dir);
+  const test::TaylorOrder kernel = test::taylor_order(test_of, Eigen::VectorXd::Zero(N), dir, Jd, 1e-3);
+  std::printf("[ measured ] %dD one-step projection: %s; without the curvature term: %s\n", D,
+              test::describe(full).c_str(), test::describe(flat).c_str());
+  std::printf("[ measured ] %dD frictionless test columns on a curved master: %s\n", D, test::describe(kernel).c_str());
+  test::expect_second_order(full, "projection");
+  EXPECT_LT(flat.order, 1.2) << "the curvature term should matter: " << test::describe(flat);
+  test::expect_second_order(kernel, "test columns");
+}
+
+TEST(CurvedFacet, KernelDerivativesThroughTheOneStepProjectionAreExact) {
+  check_curved_kernel_derivatives<2>();
+  check_curved_kernel_derivatives<3>();
+}
 
 }  // namespace
 }  // namespace conserve::contact

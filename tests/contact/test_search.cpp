@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 
 #include "contact/contact_support.hpp"
@@ -391,6 +392,152 @@ TEST(Search, OverTheSurfaceNotBeyondItsBorder) {
   EXPECT_EQ(matched_and_over(outer, 0.0, -0.002), std::make_pair(200, 200));
   EXPECT_EQ(matched_and_over(outer, 0.0025 + 1e-6, 1e-5), std::make_pair(200, 200));
   EXPECT_EQ(matched_and_over(outer, -0.0025 - 1e-6, 1e-5), std::make_pair(200, 200));
+}
+
+// Quadratic facets (3-node lines, 6-node triangles): the projection is on
+// the curved facet (project_curved), exits and walks use the vertices'
+// barycentric coordinates, node normals are those of the curved facets.
+
+/// Points at known ξ (each barycentric coordinate ≥ 0.2) and normal offsets
+/// (|g| ≤ 0.05 h) off random curved facets: matched to that facet, gap g.
+/// The chord's gap differs from g by the facet's sagitta (the control).
+template <int D>
+void known_points_on_curved_facets(const Scene<D>& scene, int trials) {
+  ASSERT_TRUE(quadratic<D>(scene.surface));
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> pick(0, scene.surface.num_facets() - 1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int wrong = 0;
+  double chord_error = 0.0;
+  for (int t = 0; t < trials; ++t) {
+    const int f = pick(rng);
+    const auto x = curved_nodes<D>(scene.surface, f, scene.model.X);
+    Vec<D> w;
+    for (int i = 0; i < D; ++i) w(i) = -std::log(1.0 - u(rng));
+    const Vec<D> bary = Vec<D>::Constant(0.2) + (1.0 - 0.2 * D) * w / w.sum();
+    const Xi<D> xi = bary.template tail<D - 1>();
+    const double g = (2.0 * u(rng) - 1.0) * 0.05 * longest_edge<D>(facet_nodes<D>(scene.surface, f, scene.model.X));
+    const Vec<D> x_s = CurvedFacet<D>::point(x, xi) + g * CurvedFacet<D>::normal(x, xi);
+    const auto m = scene.find(x_s, settings_with(0.05));
+    if (!m || m->facet != f) {
+      if (wrong++ == 0) ADD_FAILURE() << "facet " << f << " gap " << g << ": got " << (m ? m->facet : -1);
+      continue;
+    }
+    EXPECT_NEAR(m->projection.gap, g, 1e-12);
+    EXPECT_LT((m->projection.xi - xi).norm(), 1e-10);
+    EXPECT_TRUE(m->projection.inside());
+    chord_error = std::max(chord_error, std::abs(project<D>(x_s, facet_nodes<D>(scene.surface, f, scene.model.X)).gap - g));
+  }
+  EXPECT_EQ(wrong, 0);
+  std::printf("[ measured ] %dD: the chords' gaps are off by up to %.2e m\n", D, chord_error);
+  EXPECT_GT(chord_error, 1e-4);
+}
+
+TEST(Search, KnownPointsOnQuadraticFacetsOfASphereShell) {
+  const Scene<3> scene(mesh::generate_mesh("spherical_shell",
+                                           {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.1}, {"order", 2}}),
+                       "outer");
+  known_points_on_curved_facets<3>(scene, 2000);
+}
+
+TEST(Search, KnownPointsOnQuadraticFacetsOfAnAnnulus) {
+  const Scene<2> scene(
+      mesh::generate_mesh("annulus", {{"inner_radius", 0.5}, {"outer_radius", 1.0}, {"size", 0.1}, {"order", 2}}),
+      "outer");
+  known_points_on_curved_facets<2>(scene, 1000);
+}
+
+/// Beyond a curved facet's border, find_master's nearest point of the
+/// closed facet is the nearest of a dense sampling of it, to the sampling's
+/// resolution, and never farther than any sample.
+template <int D>
+void nearest_points_beyond_curved_borders(const Scene<D>& scene) {
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> pick(0, scene.surface.num_facets() - 1);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int n = D == 2 ? 400 : 60;  // samples per edge
+  int tried = 0;
+  for (int t = 0; t < 800; ++t) {
+    const int f = pick(rng);
+    const auto x = curved_nodes<D>(scene.surface, f, scene.model.X);
+    const double h = longest_edge<D>(facet_nodes<D>(scene.surface, f, scene.model.X));
+    Vec<D> offset;
+    for (int i = 0; i < D; ++i) offset(i) = u(rng);
+    const Vec<D> x_s = x.rowwise().mean() + 0.8 * h * offset;
+    const Projection<D> p = project_curved<D>(x_s, x).projection;
+    if (p.inside()) continue;
+    ++tried;
+    const auto [xi, dist, y] = closest_point_on_curved<D>(x_s, x, p);
+    EXPECT_NEAR((x_s - y).norm(), dist, 1e-14);
+    EXPECT_GE(xi.minCoeff(), -1e-15);
+    EXPECT_LE(xi.sum(), 1.0 + 1e-15);
+    double sampled = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= (D == 2 ? 0 : n - i); ++j) {
+        Xi<D> z;
+        z(0) = static_cast<double>(i) / n;
+        if constexpr (D == 3) z(1) = static_cast<double>(j) / n;
+        sampled = std::min(sampled, (x_s - CurvedFacet<D>::point(x, z)).norm());
+      }
+    EXPECT_LE(dist, sampled + 1e-14);
+    EXPECT_GE(dist, sampled - 0.5 * h / n) << "a nearer point of the facet was missed";
+  }
+  EXPECT_GT(tried, 100);
+}
+
+TEST(Search, NearestPointsBeyondTheBorderOfQuadraticFacets) {
+  nearest_points_beyond_curved_borders<2>(Scene<2>(
+      mesh::generate_mesh("annulus", {{"inner_radius", 0.5}, {"outer_radius", 1.0}, {"size", 0.3}, {"order", 2}}),
+      "outer"));
+  nearest_points_beyond_curved_borders<3>(Scene<3>(
+      mesh::generate_mesh("spherical_shell", {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.2}, {"order", 2}}),
+      "outer"));
+}
+
+TEST(Search, FollowSlidesAroundAQuadraticCircle) {
+  const Scene<2> disc(mesh::generate_mesh("disc", {{"radius", 1.0}, {"size", 0.1}, {"order", 2}}), "circle");
+  ASSERT_TRUE(quadratic<2>(disc.surface));
+  const double pi = std::acos(-1.0);
+  const auto path = [&](double t) {
+    const double angle = 2 * pi * (t + 0.0123);
+    return Vec<2>(0.995 * std::cos(angle), 0.995 * std::sin(angle));
+  };
+  const int switches = slide<2>(disc, path, 2000);
+  EXPECT_NEAR(switches, disc.surface.num_facets(), 1);
+}
+
+TEST(Search, FollowSlidesOverAQuadraticSphere) {
+  const Scene<3> shell(mesh::generate_mesh("spherical_shell",
+                                           {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.1}, {"order", 2}}),
+                       "outer");
+  const double pi = std::acos(-1.0);
+  const auto path = [&](double t) {
+    const double a = pi * (0.1 + 0.8 * t), b = 2.0 * pi * 0.7 * t;
+    return Vec<3>(0.398 * std::sin(a) * std::cos(b), 0.398 * std::sin(a) * std::sin(b), 0.398 * std::cos(a));
+  };
+  EXPECT_GT(slide<3>(shell, path, 3000), 10);
+}
+
+/// On a P2 sphere the node normals, those of the curved facets at each
+/// node, lie within 0.2° of the radius; on the P1 one within 11°.
+TEST(Search, QuadraticNodeNormalsFollowTheCurvedSurface) {
+  double worst[2] = {1.0, 1.0};
+  for (const int order : {1, 2}) {
+    const Scene<3> shell(mesh::generate_mesh("spherical_shell", {{"inner_radius", 0.2},
+                                                                 {"outer_radius", 0.4},
+                                                                 {"size", 0.1},
+                                                                 {"order", static_cast<double>(order)}}),
+                         "outer");
+    const auto n = node_normals<3>(shell.surface, shell.model.X);
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      EXPECT_NEAR(n[i].norm(), 1.0, 1e-14);
+      worst[order - 1] = std::min(worst[order - 1], n[i].dot(shell.model.X.col(shell.surface.nodes[i]).normalized()));
+    }
+  }
+  std::printf("[ measured ] node normals off the radius by up to %.2f° (P1), %.3f° (P2)\n",
+              std::acos(worst[0]) * 180 / std::acos(-1.0), std::acos(worst[1]) * 180 / std::acos(-1.0));
+  EXPECT_GT(worst[1], std::cos(0.2 * std::acos(-1.0) / 180));
+  EXPECT_LT(worst[0], worst[1]);
 }
 
 TEST(Search, NodeNormalsAreUnitAndOutward) {

@@ -80,6 +80,40 @@ TEST(Surface, BoxBoundaryIsClosedOutwardAndConsistent) {
   EXPECT_EQ(s.local_node(-5), -1);
 }
 
+/// A P2 body's surface: 6-node (3-node) facets, neighbours over the
+/// vertices' sides that share the side's middle node too, and every node
+/// of the facets a surface node (closed sphere: V + E = 2F + 2).
+TEST(Surface, QuadraticBoundaryIsClosedAndItsSidesShareTheirMiddles) {
+  {
+    const auto model = test::one_body_model<3>(mesh::generate_mesh(
+        "spherical_shell", {{"inner_radius", 0.2}, {"outer_radius", 0.4}, {"size", 0.15}, {"order", 2}}));
+    const ContactSurface s = make_surface<3>(model, 0, "outer");
+    ASSERT_EQ(s.facets.rows(), 6);
+    ASSERT_EQ(s.facet_neighbours.rows(), 3);
+    EXPECT_TRUE(all_neighbours(s));
+    EXPECT_EQ(s.nodes.size(), static_cast<std::size_t>(2 * s.num_facets() + 2));
+    for (int f = 0; f < s.num_facets(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int g = s.facet_neighbours(k, f);
+        const int mid = s.facets(3 + (k + 1) % 3, f);  // tri6: the side opposite vertex k is edge (k+1, k+2)
+        int shared = 0;
+        for (int l = 0; l < 3; ++l)
+          if (s.facet_neighbours(l, g) == f) shared += s.facets(3 + (l + 1) % 3, g) == mid;
+        EXPECT_EQ(shared, 1) << "facet " << f << " side " << k;
+      }
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < s.nodes.size(); ++i) total += s.node_facets[i].size();
+    EXPECT_EQ(total, static_cast<std::size_t>(s.facets.size()));
+  }
+  const auto model = test::one_body_model<2>(
+      mesh::generate_mesh("annulus", {{"inner_radius", 0.5}, {"outer_radius", 1.0}, {"size", 0.2}, {"order", 2}}));
+  const ContactSurface s = make_surface<2>(model, 0, "outer");
+  ASSERT_EQ(s.facets.rows(), 3);
+  ASSERT_EQ(s.facet_neighbours.rows(), 2);
+  EXPECT_TRUE(all_neighbours(s));
+  EXPECT_EQ(s.nodes.size(), static_cast<std::size_t>(2 * s.num_facets()));  // a closed loop
+}
+
 TEST(Surface, RectangleBoundaryIsClosedOutwardAndConsistent) {
   const auto model = test::one_body_model<2>(test::rectangle_mesh(4, 3, 2.0, 1.5));
   const auto s = make_surface<2>(model, 0, "boundary");

@@ -98,7 +98,7 @@ bool repeats(const Constraint<D>& a, const Constraint<D>& b, const Positions<D>&
     }
     return 0.0;
   };
-  Vec<D> na, nb;
+  Vec<D> na = Vec<D>::Zero(), nb = Vec<D>::Zero();
   const double wa = weight(a, b.slave, na);
   if (wa == 0.0) return false;
   const double wb = weight(b, a.slave, nb);

@@ -29,23 +29,27 @@
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <type_traits>
 
+#include "contact/curved_facet.hpp"
 #include "contact/facet.hpp"
 
 namespace conserve::contact::zero_work {
 
 template <int D, class S>
 using V = Eigen::Matrix<S, D, 1>;
-/// Positions of a constraint's nodes: column 0 the slave, 1…D the facet's.
-template <int D, class S>
-using Nodes = Eigen::Matrix<S, D, D + 1>;
-/// Positions of a facet's D nodes.
-template <int D, class S>
-using Facet = Eigen::Matrix<S, D, D>;
-/// ∂(one point)/∂(a facet's node positions): D × D², column b·D + i.
-template <int D, class S>
-using FacetJacobian = Eigen::Matrix<S, D, D * D>;
+/// Positions of a constraint's nodes: column 0 the slave, 1…NF the
+/// facet's (NF = D for a linear facet; 3 (2D) or 6 (3D) for a quadratic
+/// one, CurvedFacet).
+template <int D, class S, int NF = D>
+using Nodes = Eigen::Matrix<S, D, NF + 1>;
+/// Positions of a facet's NF nodes.
+template <int D, class S, int NF = D>
+using Facet = Eigen::Matrix<S, D, NF>;
+/// ∂(one point)/∂(a facet's node positions): D × D·NF, column b·D + i.
+template <int D, class S, int NF = D>
+using FacetJacobian = Eigen::Matrix<S, D, D * NF>;
 
 /// Round-off level of the work a·Δx (or of the stick defect R): relative to
 /// the displacements (the sum's own round-off) and absolute, relative to
@@ -92,15 +96,28 @@ V<D, S> raw_normal(const Facet<D, S>& x) {
   }
 }
 
-/// Facet normal, tangents and the projection ξ of point p on its plane.
+/// N_0 = 1 − Σξ, N_k = ξ_k.
 template <int D, class S>
+V<D, S> shape(const Eigen::Matrix<S, D - 1, 1>& xi) {
+  V<D, S> N;
+  N(0) = S(1.0) - xi.sum();
+  N.template tail<D - 1>() = xi;
+  return N;
+}
+
+/// The closest-point projection of a point p on a facet: ξ, the facet's
+/// unit normal and tangents at ξ, the gap (p − x(ξ))·n and the NF shape
+/// values N_b(ξ).
+template <int D, class S, int NF = D>
 struct Plane {
   Eigen::Matrix<S, D - 1, 1> xi;
   V<D, S> normal;
   Eigen::Matrix<S, D, D - 1> tangents;
   S gap;
+  Eigen::Matrix<S, NF, 1> shape;
 };
 
+/// On a linear facet's plane (line): ξ = (τᵀτ)⁻¹ τᵀ(p − x_0).
 template <int D, class S>
 Plane<D, S> project_on_plane(const V<D, S>& p, const Facet<D, S>& x) {
   Plane<D, S> out;
@@ -109,16 +126,76 @@ Plane<D, S> project_on_plane(const V<D, S>& p, const Facet<D, S>& x) {
   const Eigen::Matrix<S, D - 1, D - 1> G = out.tangents.transpose() * out.tangents;
   out.xi = G.inverse() * (out.tangents.transpose() * (p - x.col(0)));
   out.gap = (p - x.col(0)).dot(out.normal);
+  out.shape = shape<D, S>(out.xi);
   return out;
 }
 
-/// N_0 = 1 − Σξ, N_k = ξ_k.
-template <int D, class S>
-V<D, S> shape(const Eigen::Matrix<S, D - 1, 1>& xi) {
-  V<D, S> N;
-  N(0) = S(1.0) - xi.sum();
-  N.template tail<D - 1>() = xi;
-  return N;
+/// On a quadratic facet (paper (27)–(29) on a curved master): ξ̄ of the
+/// guarded Newton in double (project_curved), then one Newton step in S
+/// from it, ξ = ξ̄ + H⁻¹ r with r = τᵀ(p − x(ξ̄)) (zero to round-off) and
+/// H = τᵀτ − (p − x)·x,_αβ, so that ξ's derivatives are Appendix 1's
+/// δξ̄ = H⁻¹ [τᵀ(δp − Σ N_b δx_b) + (p − x̄)·Σ N_b,α δx_b], (87)–(94),
+/// while its value is ξ̄'s. x(ξ), τ(ξ) and N(ξ) are exact quadratic
+/// (linear) expansions about ξ̄. `curvature` false leaves out H's
+/// curvature term: a negative control for tests only.
+template <int D, class S, int NF>
+Plane<D, S, NF> project_on_curved(const V<D, S>& p, const Facet<D, S, NF>& x, bool curvature = true) {
+  using Shape = typename CurvedFacet<D>::Shape;
+  static_assert(NF == CurvedFacet<D>::kNodes);
+  using Xs = Eigen::Matrix<S, D - 1, 1>;
+  typename CurvedFacet<D>::Nodes xv;
+  Vec<D> pv;
+  for (int i = 0; i < D; ++i) {
+    pv(i) = value_of(p(i));
+    for (int b = 0; b < NF; ++b) xv(i, b) = value_of(x(i, b));
+  }
+  const Xi<D> xi0 = project_curved<D>(pv, xv).projection.xi;
+  const auto N0 = Shape::shape(xi0);
+  const auto dN0 = Shape::dshape(xi0);
+  const auto d2N = Shape::d2shape(xi0);
+  const V<D, S> x0 = x * N0.template cast<S>();
+  const Eigen::Matrix<S, D, D - 1> tau0 = x * dN0.transpose().template cast<S>();
+  std::array<V<D, S>, (D - 1) * (D - 1)> xx;  // x,_αβ
+  for (int a = 0; a < D - 1; ++a)
+    for (int b = 0; b < D - 1; ++b) {
+      V<D, S> v = V<D, S>::Zero();
+      for (int n = 0; n < NF; ++n) v += S(d2N[static_cast<std::size_t>(n)](a, b)) * x.col(n);
+      xx[static_cast<std::size_t>(a * (D - 1) + b)] = v;
+    }
+  const V<D, S> d0 = p - x0;
+  Eigen::Matrix<S, D - 1, D - 1> H = tau0.transpose() * tau0;
+  if (curvature)
+    for (int a = 0; a < D - 1; ++a)
+      for (int b = 0; b < D - 1; ++b) H(a, b) -= d0.dot(xx[static_cast<std::size_t>(a * (D - 1) + b)]);
+  const Xs step = H.inverse() * (tau0.transpose() * d0);
+  Plane<D, S, NF> out;
+  out.xi = xi0.template cast<S>() + step;
+  out.tangents = tau0;
+  V<D, S> point = x0 + tau0 * step;
+  for (int a = 0; a < D - 1; ++a)
+    for (int b = 0; b < D - 1; ++b) {
+      const V<D, S>& v = xx[static_cast<std::size_t>(a * (D - 1) + b)];
+      out.tangents.col(a) += v * step(b);
+      point += S(0.5) * step(a) * step(b) * v;
+    }
+  if constexpr (D == 3) {
+    out.normal = out.tangents.col(0).cross(out.tangents.col(1)).normalized();
+  } else {
+    out.normal = V<2, S>(out.tangents(1, 0), -out.tangents(0, 0)).normalized();
+  }
+  out.gap = (p - point).dot(out.normal);
+  out.shape = N0.template cast<S>() + dN0.transpose().template cast<S>() * step;
+  for (int n = 0; n < NF; ++n) out.shape(n) += S(0.5) * step.dot(d2N[static_cast<std::size_t>(n)].template cast<S>() * step);
+  return out;
+}
+
+/// project_on_plane (NF = D) or project_on_curved.
+template <int D, class S, int NF>
+Plane<D, S, NF> project_on_facet(const V<D, S>& p, const Facet<D, S, NF>& x) {
+  if constexpr (NF == D)
+    return project_on_plane<D, S>(p, x);
+  else
+    return project_on_curved<D, S, NF>(p, x);
 }
 
 /// Θ: the rotation of the least-squares rigid motion of a displacement δx
@@ -188,17 +265,17 @@ Eigen::Matrix<S, D, K> non_rigid_part(const Eigen::Matrix<S, D, K>& y, const Eig
 /// projection `mid` (ξ_{n+½}, n_{n+½}, τ_{n+½}).
 /// With `zero_work` false the paper's gradient a itself (a pushed-out
 /// slave, Constraint::push).
-template <int D, class S>
-Nodes<D, S> frictionless_direction(const Nodes<D, S>& x, const Nodes<D, S>& dx, Plane<D, S>& mid,
-                                   bool zero_work = true) {
-  const Nodes<D, S> y = x - S(0.5) * dx;
-  mid = project_on_plane<D, S>(y.col(0), y.template rightCols<D>());
-  const V<D, S> N = shape<D, S>(mid.xi);
-  Nodes<D, S> a;
+template <int D, class S, int NF = D>
+Nodes<D, S, NF> frictionless_direction(const Nodes<D, S, NF>& x, const Nodes<D, S, NF>& dx, Plane<D, S, NF>& mid,
+                                       bool zero_work = true) {
+  const Nodes<D, S, NF> y = x - S(0.5) * dx;
+  mid = project_on_facet<D, S, NF>(y.col(0), y.template rightCols<NF>());
+  const Eigen::Matrix<S, NF, 1>& N = mid.shape;
+  Nodes<D, S, NF> a;
   a.col(0) = mid.normal;
-  for (int b = 0; b < D; ++b) a.col(b + 1) = -N(b) * mid.normal;
+  for (int b = 0; b < NF; ++b) a.col(b + 1) = -N(b) * mid.normal;
   if (!zero_work) return a;
-  const Nodes<D, S> w = non_rigid_part<D, D + 1, S>(y, dx);
+  const Nodes<D, S, NF> w = non_rigid_part<D, NF + 1, S>(y, dx);
   const S ww = w.squaredNorm();
   if (!(ww > 0.0)) return a;  // a rigid motion: a·Δx = 0 already
   const S work = a.cwiseProduct(dx).sum();
@@ -252,9 +329,9 @@ Nodes<D, S> friction_direction(const Nodes<D, S>& x, const Nodes<D, S>& dx, doub
 /// column b·D + i of `master`; for slip j, column j of `slip`. Chosen so
 /// that Wᵀg = 0 holds exactly when the residual on (slave, facet nodes) is
 /// parallel to ā; with ā = a they are the paper's N_b e_i and τ_j (56).
-template <int D, class S>
+template <int D, class S, int NF = D>
 struct TestColumns {
-  FacetJacobian<D, S> master;
+  FacetJacobian<D, S, NF> master;
   Eigen::Matrix<S, D, D - 1> slip;
   /// â·n_{n+½}, â = ā_s/|ā_s|: 1 when ā = a (the paper's force); near 0
   /// when the zero-work correction has turned the slave's force tangential.
@@ -266,18 +343,18 @@ struct TestColumns {
 /// f_N = n·g_s, n = n_{n+½}): each column w becomes w − μ (φ_s·w + φ_w) n,
 /// φ_w the entry of φ at the column's own dof (0 for a slip). Wᵀg = 0 then
 /// holds exactly when g = λ ā + μ f_N φ: the zero-work force and a
-/// friction force of magnitude μ f_N against the slip.
-template <int D, class S>
-TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx, bool zero_work = true,
-                                    double friction = 0.0, double slip_scale = 0.0) {
-  Plane<D, S> mid;
-  const Nodes<D, S> abar = frictionless_direction<D, S>(x, dx, mid, zero_work);
+/// friction force of magnitude μ f_N against the slip (linear facets only).
+template <int D, class S, int NF = D>
+TestColumns<D, S, NF> frictionless_test(const Nodes<D, S, NF>& x, const Nodes<D, S, NF>& dx, bool zero_work = true,
+                                        double friction = 0.0, double slip_scale = 0.0) {
+  Plane<D, S, NF> mid;
+  const Nodes<D, S, NF> abar = frictionless_direction<D, S, NF>(x, dx, mid, zero_work);
   const V<D, S> as = abar.col(0);
   const S as2 = as.squaredNorm();
 
-  const V<D, S> N = shape<D, S>(mid.xi);
-  TestColumns<D, S> t;
-  for (int b = 0; b < D; ++b)
+  const Eigen::Matrix<S, NF, 1>& N = mid.shape;
+  TestColumns<D, S, NF> t;
+  for (int b = 0; b < NF; ++b)
     for (int i = 0; i < D; ++i) {
       V<D, S> c = V<D, S>::Zero();
       c(i) = N(b);
@@ -296,7 +373,9 @@ TestColumns<D, S> frictionless_test(const Nodes<D, S>& x, const Nodes<D, S>& dx,
       Eigen::Matrix<S, D, D>::Identity() + K + (K * K) / (S(1.0) + mid.normal.dot(ahat));
   t.slip = R * mid.tangents;
   t.cosine = mid.normal.dot(ahat);
-  if (friction > 0.0) {
+  if constexpr (NF != D) {
+    if (friction > 0.0) throw std::logic_error("zero_work: Coulomb friction on a quadratic facet");
+  } else if (friction > 0.0) {
     double slip = 0.0;
     const Nodes<D, S> phi = friction_direction<D, S>(x, dx, slip_scale, slip);
     const S mu(friction);
