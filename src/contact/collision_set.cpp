@@ -51,13 +51,15 @@ ContactPair<D> reversed(const ContactPair<D>& pair, const Positions<D>& x) {
 template <int D>
 bool entered_through(const ContactPair<D>& pair, int s, const Match<D>& end, const Positions<D>& x_n,
                      const Positions<D>& x) {
-  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pair.master, end.facet, x_n));
+  const Projection<D> start = project_on<D>(x_n.col(s), pair.master, end.facet, x_n);
   if (!(start.gap >= 0.0) || !(end.projection.gap < start.gap)) return false;
   const double at = start.gap / (start.gap - end.projection.gap);
-  const FacetNodes<D> facet = facet_nodes<D>(pair.master, end.facet, x);
-  const Vec<D> crossing = facet * facet_shape<D>(start.xi + at * (end.projection.xi - start.xi));
-  return over_surface<D>(crossing, Match<D>{end.facet, project<D>(crossing, facet)}, pair.master, x,
-                         pair.search.border_tolerance);
+  const Xi<D> xi = start.xi + at * (end.projection.xi - start.xi);
+  Vec<D> crossing = Vec<D>::Zero();
+  const FacetWeights<D> N = facet_weights<D>(static_cast<int>(pair.master.facets.rows()), xi);
+  for (Eigen::Index b = 0; b < N.size(); ++b) crossing += N(b) * x.col(pair.master.facets(b, end.facet));
+  return over_surface<D>(crossing, Match<D>{end.facet, project_on<D>(crossing, pair.master, end.facet, x)},
+                         pair.master, x, pair.search.border_tolerance);
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ struct Constraint {
   /// the facet the slave is frozen to; frictionless: the facet the slave's
   /// end position projects on, where its gap is held and its force acts.
   int facet = -1;
-  std::array<int, D> master{};                 ///< global nodes of `facet`
+  FacetIndex<D> master;                        ///< global nodes of `facet` (D, or NF of a quadratic one)
   Xi<D> xi = Xi<D>::Zero();                    ///< stick: frozen ξ̄; frictionless: ξ_{n+½}
   Vec<D> normal = Vec<D>::Zero();              ///< n_{n+½}, outward normal of `facet` at the mid-point
   Tangents<D> tangents = Tangents<D>::Zero();  ///< τ_{n+½}

@@ -134,8 +134,8 @@ struct ContactForce {
   Vec<D> impulse = Vec<D>::Zero();  ///< an impulse at the step's end (persistent contact) [N s]
   /// The master facet's nodes and the weights N_b(ξ) with which they took
   /// the opposite of `impulse` (a prescribed master's reaction).
-  std::array<int, D> master{};
-  Vec<D> weights = Vec<D>::Zero();
+  FacetIndex<D> master;
+  FacetWeights<D> weights = FacetWeights<D>::Zero(D);
 };
 
 /// a × b for D-vectors as a 3-vector (2D: along z).

@@ -63,6 +63,13 @@ bool quadratic(const ContactSurface& surface) {
 template <int D>
 typename CurvedFacet<D>::Nodes curved_nodes(const ContactSurface& surface, int f, const Positions<D>& x);
 
+/// The shape values N_b(ξ) of a facet of `nodes` nodes (D: linear, else quadratic).
+template <int D>
+FacetWeights<D> facet_weights(int nodes, const Xi<D>& xi) {
+  if (nodes == D) return facet_shape<D>(xi);
+  return CurvedFacet<D>::Shape::shape(xi);
+}
+
 /// The projection of x_s on facet f of `surface`: on its plane (line) if
 /// linear, from `frames` when given (project); on its curved surface if
 /// quadratic (project_curved).

@@ -1,12 +1,57 @@
 #pragma once
 /// Contact surfaces: outward-oriented boundary facets of one body, in the
 /// model's global node numbers, with node→facet and facet→facet adjacency.
+#include <algorithm>
+#include <array>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
 #include "model/model.hpp"
 
 namespace conserve::contact {
+
+/// Most nodes of a master facet: a 3-node line (2D), a 6-node triangle (3D).
+template <int D>
+inline constexpr int kMaxFacetNodes = D * (D + 1) / 2;
+
+/// The global node numbers of one master facet: its D vertices (linear)
+/// or vertices then edge middles (quadratic, Gmsh's order). Iterates over
+/// the facet's own nodes only.
+template <int D>
+class FacetIndex {
+ public:
+  FacetIndex() = default;
+  /// Column f of a surface's facets (D or kMaxFacetNodes rows).
+  FacetIndex(const Eigen::MatrixXi& facets, int f) : size_(static_cast<int>(facets.rows())) {
+    for (int a = 0; a < size_; ++a) node_[static_cast<std::size_t>(a)] = facets(a, f);
+  }
+  /// The given nodes (at most kMaxFacetNodes).
+  FacetIndex(std::initializer_list<int> nodes) : size_(static_cast<int>(nodes.size())) {
+    std::copy(nodes.begin(), nodes.end(), node_.begin());
+  }
+  FacetIndex(const std::array<int, D>& nodes) : size_(D) { std::copy(nodes.begin(), nodes.end(), node_.begin()); }
+  /// n nodes, numbered 0 until set (a record being read).
+  void resize(int n) { size_ = n; }
+  [[nodiscard]] int size() const { return size_; }
+  int operator[](int a) const { return node_[static_cast<std::size_t>(a)]; }
+  int& operator[](int a) { return node_[static_cast<std::size_t>(a)]; }
+  [[nodiscard]] const int* begin() const { return node_.data(); }
+  [[nodiscard]] const int* end() const { return node_.data() + size_; }
+  int* begin() { return node_.data(); }
+  int* end() { return node_.data() + size_; }
+  friend bool operator==(const FacetIndex& a, const FacetIndex& b) {
+    return a.size_ == b.size_ && std::equal(a.begin(), a.end(), b.begin());
+  }
+
+ private:
+  std::array<int, kMaxFacetNodes<D>> node_{};
+  int size_ = D;
+};
+
+/// A facet's shape values N_b(ξ), one per node (no heap).
+template <int D>
+using FacetWeights = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxFacetNodes<D>, 1>;
 
 struct ContactSurface {
   std::string name;  ///< "body:group", for messages

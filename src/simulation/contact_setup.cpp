@@ -34,10 +34,19 @@ std::vector<contact::ContactPair<D>> make_contact_pairs(const io::Scenario& scen
     const auto surface = [&](const char* key, const std::string& body, const std::string& group) {
       try {
         contact::ContactSurface s = contact::make_surface<D>(model, body_index(model, body), group);
-        if (s.facets.rows() != D)
-          throw InputError(fmt::format("body '{}', group '{}': contact on quadratic facets is not available in "
-                                       "this version (mesh the body with order = 1)",
-                                       body, group));
+        if (s.facets.rows() != D) {
+          // Quadratic facets: frictionless contact by elimination, one pass.
+          const char* missing = spec.method != "elimination"          ? "methods other than elimination"
+                                : spec.kind != io::ContactKind::frictionless ? "stick or Coulomb contact"
+                                : spec.passes > 1                     ? "two passes"
+                                : spec.slave_body == spec.master_body ? "self-contact"
+                                                                      : nullptr;
+          if (missing)
+            throw InputError(fmt::format("body '{}', group '{}': quadratic facets have frictionless contact by "
+                                         "elimination in one pass; {} on them is not available in this version "
+                                         "(mesh the body with order = 1)",
+                                         body, group, missing));
+        }
         return s;
       } catch (const InputError& e) {
         throw InputError(fmt::format("{}: {}", scenario.sources.locate(fmt::format("contact[{}].{}", i, key)), e.what()));

@@ -101,6 +101,23 @@ double facet_measure(const contact::ContactSurface& surface, int f, const contac
   }
 }
 
+/// The part of facet f's measure (`measure`) that node `node` of it takes
+/// for its contact pressure: 1/D of a linear facet's; of a quadratic one, split into
+/// sub-facets at its edges' middles (4 triangles, 2 segments) shared
+/// equally by their corners, 1/12 at a vertex and 1/4 at an edge's middle
+/// (2D: 1/4 and 1/2). (The consistent ∫N_a dA is 0 at a 6-node triangle's
+/// vertices.)
+template <int D>
+double tributary_area(const contact::ContactSurface& surface, int f, int node, double measure) {
+  if (!contact::quadratic<D>(surface)) return measure / D;
+  int a = 0;
+  while (surface.facets(a, f) != node) ++a;
+  if constexpr (D == 3)
+    return measure * (a < D ? 1.0 / 12.0 : 0.25);
+  else
+    return measure * (a < D ? 0.25 : 0.5);
+}
+
 /// The mean displacement of the nodes of support `s` (of the dofs it
 /// prescribes: a component it leaves free counts as 0) [m].
 template <int D>
@@ -285,8 +302,8 @@ void OutputWriter<D>::add_contact_fields(const model::State& state, io::VtuGrid&
   const double nan = std::nan("");
   const contact::Positions<D> x = model.X + state.u.reshaped(D, n);
   const auto& pairs = contacts_->pairs();
-  // Per slave node: its tributary area (a share 1/D of each of its slave
-  // facets, now; 2D: × the body's thickness) and its signed gap to the
+  // Per slave node: its tributary area (its share of each of its slave
+  // facets, now, tributary_area; 2D: × the body's thickness) and its signed gap to the
   // master facet the search finds (NaN out of reach).
   io::VtuField gap{"contact_gap", 1, std::vector<double>(n, nan)},
       status{"contact_status", 1, std::vector<double>(n, nan)};
@@ -299,7 +316,7 @@ void OutputWriter<D>::add_contact_fields(const model::State& state, io::VtuGrid&
     for (std::size_t i = 0; i < moved.slave.nodes.size(); ++i) {
       const int s = moved.slave.nodes[i];
       double a = 0.0;
-      for (int f : moved.slave.node_facets[i]) a += facet_measure<D>(moved.slave, f, x) / D;
+      for (int f : moved.slave.node_facets[i]) a += tributary_area<D>(moved.slave, f, s, facet_measure<D>(moved.slave, f, x));
       if (area[s] == 0.0) area[s] = a * thickness;
       const auto match =
           contact::find_master<D>(x.col(s), moved.master, moved.tree, x, moved.search, normals[i], &moved.frames);

@@ -208,7 +208,7 @@ void Integrator<D>::add_impulses(double dt) {
   for (const contact::ContactForce<D>& f : contact_->contact_forces()) {
     if (f.impulse.isZero()) continue;
     if (impulse_.size() == 0) impulse_.setZero(reaction_.size());
-    for (int b = 0; b < D; ++b)
+    for (int b = 0; b < f.master.size(); ++b)
       for (int i = 0; i < D; ++i)
         if (mask_.masked(f.master[b] * D + i)) impulse_[f.master[b] * D + i] += f.weights[b] * f.impulse[i] / dt;
     // A prescribed slave (a driven body's node in a second pass) takes the

@@ -1,7 +1,9 @@
 // Quadratic cells from the command line: a disc (6-node triangles) and a
 // cylinder (10-node tetrahedra) of `order = 2` generators, stretched and
 // spinning free, keep E, L and J to 1e-10 and are written as quadratic
-// VTU cells (tests/cli/test_real_readers.py reads them); a contact pair on a body of order 2 is refused in one line.
+// VTU cells (tests/cli/test_real_readers.py reads them); two free bodies
+// of order 2 meet on curved facets, keeping E, L and J; what contact on
+// them does not yet have is refused in one line.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -9,7 +11,10 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <utility>
+#include <vector>
 
+#include "io/history_writer.hpp"
 #include "support/cli.hpp"
 #include "support/files.hpp"
 
@@ -100,9 +105,11 @@ TEST(QuadraticCli, SpinningDiscAndCylinderKeepEnergyAndMomenta) {
   expect_conserved(dir / "cylinder", "cylinder (10-node tetrahedra)");
 }
 
-TEST(QuadraticCli, ContactOnAQuadraticBodyIsRefusedInOneLine) {
+// Contact on quadratic facets: what is not yet available on them (stick,
+// Coulomb, penalty, multipliers, two passes, self-contact) is refused in one line.
+TEST(QuadraticCli, StickContactOnAQuadraticBodyIsRefusedInOneLine) {
   const auto dir = scratch("quadratic_contact");
-  write_file(dir / "s.toml", kDisc + R"([[body]]
+  const std::string wall = R"([[body]]
 name = "wall"
 rigid = true
 translate = [0.0, -0.2]
@@ -113,12 +120,87 @@ size = 0.05
 [[contact]]
 slave = "disc:circle"
 master = "wall:surface"
+)";
+  for (const auto& [line, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"kind = \"stick\"\n", "stick or Coulomb contact"},
+           {"kind = \"coulomb\"\nfriction = 0.3\n", "stick or Coulomb contact"},
+           {"kind = \"frictionless\"\nmethod = \"penalty\"\n", "methods other than elimination"},
+           {"kind = \"frictionless\"\nmethod = \"lagrange\"\n", "methods other than elimination"},
+           {"kind = \"frictionless\"\npasses = 2\n", "two passes"}}) {
+    write_file(dir / "s.toml", kDisc + wall + line);
+    const CliResult r = run_cli("check s.toml", dir);
+    EXPECT_EQ(r.exit_code, 1) << line;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_THAT(r.err, HasSubstr(expected)) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("quadratic facets have frictionless contact by elimination")) << r.err;
+  }
+}
+
+/// Two free bodies of quadratic cells meet off-centre, frictionless, on
+/// curved 3-node (6-node) master facets: E, L and J stay at round-off
+/// through the impact. Not yet: slaves sliding over the kinks between
+/// curved facets end behind the neighbour by up to 0.6 mm here (facets of
+/// 40 mm), where linear facets leave none; printed, and stated in
+/// docs/validation.md, until the facets' extension beyond their border is
+/// their tangent plane.
+void expect_contact_conserved(const std::filesystem::path& out, const char* name) {
+  expect_conserved(out, name);
+  const io::History h = io::read_history(out / "history.csv");
+  const auto contacts = h.column("active_contacts"), slave = h.column("slave_penetration"),
+             master = h.column("master_penetration");
+  const double most = *std::max_element(contacts.begin(), contacts.end());
+  const double deepest = *std::max_element(slave.begin(), slave.end());
+  std::printf(
+      "[ measured ] quadratic %s: up to %.0f active contacts, slaves behind their masters by %.1e m at most (the "
+      "masters' nodes inside the slave's facets by %.1e m)\n",
+      name, most, deepest, *std::max_element(master.begin(), master.end()));
+  EXPECT_GE(most, 3.0) << "the bodies should meet";
+}
+
+TEST(QuadraticCli, FreeDiscsMeetOnCurvedFacetsKeepingEnergyAndMomenta) {
+  const auto dir = scratch("quadratic_discs");
+  write_file(dir / "discs.toml", R"(title = "two quadratic discs meeting off-centre"
+dimension = 2
+[time]
+step = 1e-3
+end = 0.06
+[output]
+vtu_every = 0
+[[body]]
+name = "left"
+velocity = [3.0, 0.0]
+[body.material]
+model = "neo_hookean"
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.1
+size = 0.04
+order = 2
+[[body]]
+name = "right"
+translate = [0.205, 0.06]
+velocity = [-3.0, 0.0]
+[body.material]
+model = "neo_hookean"
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "disc"
+radius = 0.1
+size = 0.04
+order = 2
+[[contact]]
+slave = "left:circle"
+master = "right:circle"
 kind = "frictionless"
 )");
-  const CliResult r = run_cli("check s.toml", dir);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("contact on quadratic facets is not available"));
+  const CliResult r = run_cli("run discs.toml -q -o out", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_contact_conserved(dir / "out", "discs meeting");
 }
 
 // The mean dilatation on linear cells, and on a rigid body, is refused in one line.

@@ -25,14 +25,14 @@ template <int D>
 Constraint<D> make_constraint(const ContactPair<D>& pr, int p, int s, const Match<D>& end, const Positions<D>& x_n,
                               const Positions<D>& x_np1, const ActivationContext& context) {
   const Positions<D> x_mid = 0.5 * (x_n + x_np1);
-  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pr.master, end.facet, x_n));
-  const Projection<D> mid = project<D>(x_mid.col(s), facet_nodes<D>(pr.master, end.facet, x_mid));
+  const Projection<D> start = project_on<D>(x_n.col(s), pr.master, end.facet, x_n);
+  const Projection<D> mid = project_on<D>(x_mid.col(s), pr.master, end.facet, x_mid);
   Constraint<D> c;
   c.pair = p;
   c.slave = s;
   c.kind = context.kind.value_or(pr.kind);
   c.facet = end.facet;
-  for (int a = 0; a < D; ++a) c.master[a] = pr.master.facets(a, c.facet);
+  c.master = FacetIndex<D>(pr.master.facets, c.facet);
   c.xi = c.kind == Kind::stick ? start.xi : mid.xi;
   c.normal = mid.normal;
   c.tangents = mid.tangents;
@@ -63,33 +63,52 @@ bool forms_crease(const ContactPair<D>& pr, const Constraint<D>& held, const Mat
     return false;
   const auto& facets = pr.master.facets;
   bool shared = false;
-  for (int a = 0; a < D; ++a)
+  for (int a = 0; a < D; ++a)  // a shared vertex
     for (int b = 0; b < D; ++b) shared = shared || facets(a, end.facet) == held.master[b];
   const double cosine = held.normal.dot(end.projection.normal);
   return shared && cosine > 0.0 && !(1.0 - cosine * cosine < kCreaseSine * kCreaseSine);
 }
 
-template <int D>
-double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) {
-  zero_work::Nodes<D, double> y, d;
+namespace {
+
+/// push_out on a facet of NF nodes.
+template <int D, int NF>
+double push_out_of(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) {
+  zero_work::Nodes<D, double, NF> y, d;
   auto put = [&](int column, int node) {
     y.col(column) = 0.5 * (x_a.col(node) + x_b.col(node));
     d.col(column) = x_b.col(node) - x_a.col(node);
   };
   put(0, c.slave);
-  for (int b = 0; b < D; ++b) put(b + 1, c.master[b]);
+  for (int b = 0; b < NF; ++b) put(b + 1, c.master[b]);
   // A push-out alone is met by ā_s·n = 0 (see make_constraint): only the
   // other non-rigid motion, slip and the facet's strain, can take it.
-  d.col(0) -= c.normal * c.normal.dot(d.col(0) - d.template rightCols<D>() * facet_shape<D>(c.xi));
-  return kPushOut * zero_work::non_rigid_part<D, D + 1, double>(y, d).norm();
+  const Eigen::Matrix<double, NF, 1> N = facet_weights<D>(NF, c.xi);
+  d.col(0) -= c.normal * c.normal.dot(d.col(0) - d.template rightCols<NF>() * N);
+  return kPushOut * zero_work::non_rigid_part<D, NF + 1, double>(y, d).norm();
+}
+
+}  // namespace
+
+template <int D>
+double push_out(const Constraint<D>& c, const Positions<D>& x_a, const Positions<D>& x_b) {
+  if (c.master.size() == D) return push_out_of<D, D>(c, x_a, x_b);
+  return push_out_of<D, kMaxFacetNodes<D>>(c, x_a, x_b);
 }
 
 template <int D>
 bool repeats(const Constraint<D>& a, const Constraint<D>& b, const Positions<D>& x) {
   // The weight of c's slave at `node` on its facet, and the facet's normal.
   auto weight = [&](const Constraint<D>& c, int node, Vec<D>& normal) {
-    for (int k = 0; k < D; ++k) {
+    for (int k = 0; k < c.master.size(); ++k) {
       if (c.master[k] != node) continue;
+      if (c.master.size() != D) {
+        typename CurvedFacet<D>::Nodes facet;
+        for (int j = 0; j < c.master.size(); ++j) facet.col(j) = x.col(c.master[j]);
+        const Projection<D> p = project_curved<D>(x.col(c.slave), facet).projection;
+        normal = p.normal;
+        return facet_weights<D>(c.master.size(), p.xi)(k);
+      }
       FacetNodes<D> facet;
       for (int j = 0; j < D; ++j) facet.col(j) = x.col(c.master[j]);
       const Projection<D> p = project<D>(x.col(c.slave), facet);

@@ -26,6 +26,10 @@ template <int D>
 std::optional<Constraint<D>> ActiveSet<D>::activation(int p, int s, const Match<D>& match, const Positions<D>& x_n,
                                                       const Positions<D>& x_np1) const {
   if (!(match.projection.gap < -pair(p).search.penetration_tolerance)) return std::nullopt;
+  // Two constraints on one slave are held on linear facets only (the pair
+  // kernels, zero_work::pair_frictionless_test).
+  const auto quadratic = [&](int q) { return pair(q).master.facets.rows() != D; };
+  if (index_.count(s) > 0 && (quadratic(p) || quadratic(index_.first_pair(s)))) return std::nullopt;
   if (index_.active_in(p, s)) {
     if (index_.count(s) != 1 || index_.first_pair(s) != p) return std::nullopt;
     const auto held =
@@ -130,7 +134,7 @@ SetChange ActiveSet<D>::update(const Eigen::VectorXd& u_n, const Eigen::VectorXd
   for (std::size_t k = 0; k < active_.size(); ++k) {
     Constraint<D>& c = active_[k];
     if (!c.rate) continue;
-    end_gap[k] = project<D>(x_np1.col(c.slave), facet_nodes<D>(pair(c.pair).master, c.facet, x_np1)).gap;
+    end_gap[k] = project_on<D>(x_np1.col(c.slave), pair(c.pair).master, c.facet, x_np1).gap;
     if (end_gap[k] < -pair(c.pair).search.penetration_tolerance && c.kind == Kind::frictionless &&
         index_.count(c.slave) == 1 && !c.hold)
       c.rate = false, c.gap = 0.0, c.push = pushed = true;
@@ -159,10 +163,11 @@ template <int D>
 bool ActiveSet<D>::slides_in(int p, int s, const Match<D>& end, const Positions<D>& x_n, double facet_size) const {
   if (v_n_.size() == 0) return false;
   const ContactPair<D>& pr = pair(p);
-  const Projection<D> start = project<D>(x_n.col(s), facet_nodes<D>(pr.master, end.facet, x_n));
-  const Vec<D> N = facet_shape<D>(start.xi);
+  const Projection<D> start = project_on<D>(x_n.col(s), pr.master, end.facet, x_n);
+  const auto nodes = static_cast<int>(pr.master.facets.rows());
+  const FacetWeights<D> N = facet_weights<D>(nodes, start.xi);
   Vec<D> relative = v_n_.template segment<D>(s * D);
-  for (int b = 0; b < D; ++b) relative -= N(b) * v_n_.template segment<D>(pr.master.facets(b, end.facet) * D);
+  for (int b = 0; b < nodes; ++b) relative -= N(b) * v_n_.template segment<D>(pr.master.facets(b, end.facet) * D);
   const double normal = start.normal.dot(relative);
   relative -= normal * start.normal;
   // An impact's tangential impulse can stop the slave's sliding within the
@@ -218,7 +223,7 @@ void ActiveSet<D>::hold_pushes(const Eigen::VectorXd& u_n) {
     c.hold = true;
     if (given_up_[c.slave] == 0) given_up_[c.slave] = 2;
     if (c.activated_step != step_) ++old_given_up_;
-    c.gap = project<D>(x_n.col(c.slave), facet_nodes<D>(pair(c.pair).master, c.facet, x_n)).gap;
+    c.gap = project_on<D>(x_n.col(c.slave), pair(c.pair).master, c.facet, x_n).gap;
   }
 }
 
@@ -247,6 +252,12 @@ template <int D>
 bool ActiveSet<D>::release_tensile(const Positions<D>& x_mid, const Eigen::VectorXd& g, StepContactStats& stats,
                                    HeldCounts& counts) {
   for (Constraint<D>& c : active_) {
+    if (c.master.size() != D) {  // a curved facet's normal at ξ_{n+½}
+      typename CurvedFacet<D>::Nodes xm;
+      for (int a = 0; a < c.master.size(); ++a) xm.col(a) = x_mid.col(c.master[a]);
+      c.normal = CurvedFacet<D>::normal(xm, c.xi);
+      continue;
+    }
     FacetNodes<D> xm;
     for (int a = 0; a < D; ++a) xm.col(a) = x_mid.col(c.master[a]);
     c.normal = facet_normal<D>(xm);
@@ -357,7 +368,7 @@ SetChange ActiveSet<D>::activate_penetrating(const Positions<D>& x_n, const Posi
     const auto found = active_gap.find({c.pair, c.slave});
     const double gap = found != active_gap.end()
                            ? found->second
-                           : project<D>(x_np1.col(c.slave), facet_nodes<D>(pr.master, c.facet, x_np1)).gap;
+                           : project_on<D>(x_np1.col(c.slave), pr.master, c.facet, x_np1).gap;
     min_gap = std::min(min_gap, gap);
     max_gap = std::max(max_gap, gap);
   }
@@ -411,7 +422,7 @@ ActiveGaps ActiveSet<D>::active_gaps(const Eigen::VectorXd& u, const Eigen::Vect
     const auto i = static_cast<std::size_t>(pr.slave.local_node(c.slave));
     const auto match = collisions_.match(c.pair, i, x, normals[c.pair][i], u_n ? &x_n : nullptr);
     const double gap =
-        match ? match->projection.gap : project<D>(x.col(c.slave), facet_nodes<D>(pr.master, c.facet, x)).gap;
+        match ? match->projection.gap : project_on<D>(x.col(c.slave), pr.master, c.facet, x).gap;
     gaps.min = std::min(gaps.min, gap);
     gaps.max = std::max(gaps.max, gap);
   }

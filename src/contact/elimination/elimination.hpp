@@ -188,12 +188,23 @@ class Elimination {
   /// end positions, displacements over the step (from displacement
   /// differences, exact), the facet's start positions, and for stick the
   /// slave's start offset from its frozen point.
-  struct Kernel {
-    Eigen::Matrix<double, D, D + 1> x, dx;
-    Eigen::Matrix<double, D, D> xm_n;
+  /// NF: the facet's nodes (D, or kMaxFacetNodes for a quadratic one).
+  template <int NF>
+  struct KernelOf {
+    Eigen::Matrix<double, D, NF + 1> x, dx;
+    Eigen::Matrix<double, D, NF> xm_n;
     Vec<D> offset = Vec<D>::Zero();
   };
-  [[nodiscard]] Kernel kernel_input(const Constraint<D>& k, const Eigen::VectorXd& u) const;
+  using Kernel = KernelOf<D>;
+  template <int NF = D>
+  [[nodiscard]] KernelOf<NF> kernel_input(const Constraint<D>& k, const Eigen::VectorXd& u) const;
+  /// A frictionless constraint's maps at u (not a driven slave's): the
+  /// trial map N_b n nᵀ and τ, the test map from the zero-work kernel.
+  template <int NF>
+  [[nodiscard]] Local local_frictionless(const Constraint<D>& k, const Eigen::VectorXd& u) const;
+  /// add_variation for such a constraint.
+  template <int NF>
+  void add_frictionless_variation(int c, const Constraint<D>& k, const Vec<D>& g_s, SparseMatrix& K_r) const;
   /// End positions and displacements of a two-constraint group's nodes:
   /// the slave, facet 1's nodes, facet 2's.
   struct PairKernel {

@@ -183,12 +183,11 @@ class RowBuilder {
   std::vector<Component> components_;
 };
 
-/// N(ξ) ⊗ 1 over a facet's nodes: D × D².
+/// N ⊗ 1 over a facet's nodes (N their shape values): D × D·|N|.
 template <int D>
-Eigen::MatrixXd shape_block(const Xi<D>& xi) {
-  const Vec<D> N = facet_shape<D>(xi);
-  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(D, D * D);
-  for (int b = 0; b < D; ++b) C.middleCols(b * D, D) = N(b) * Mat<D>::Identity();
+Eigen::MatrixXd shape_block(const FacetWeights<D>& N) {
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(D, D * N.size());
+  for (Eigen::Index b = 0; b < N.size(); ++b) C.middleCols(b * D, D) = N(b) * Mat<D>::Identity();
   return C;
 }
 
@@ -242,6 +241,10 @@ void driven_forces(const zero_work::TestColumns<D, S>& t, int b, Eigen::Matrix<S
   }
 }
 
+/// How far beyond its border (isoparametric) a slave stays on its curved
+/// facet (Elimination::settle).
+constexpr double kCurvedBorder = 1e-3;
+
 /// The smallest weight, relative to the largest of its facet's nodes, of
 /// the node that holds a driven slave's constraint: below it the
 /// constraint repeats the one of the node it is at, and is left out.
@@ -275,23 +278,61 @@ Positions<D> Elimination<D>::positions(const Eigen::VectorXd& u) const {
 }
 
 template <int D>
-typename Elimination<D>::Kernel Elimination<D>::kernel_input(const Constraint<D>& k, const Eigen::VectorXd& u) const {
-  Kernel in;
+template <int NF>
+typename Elimination<D>::template KernelOf<NF> Elimination<D>::kernel_input(const Constraint<D>& k,
+                                                                           const Eigen::VectorXd& u) const {
+  if (k.master.size() != NF)
+    throw Error(fmt::format("slave {}'s facet has {} nodes, not {}", k.slave, k.master.size(), NF));
+  KernelOf<NF> in;
   auto put = [&](int column, int node) {
     in.x.col(column) = X_.col(node) + u.template segment<D>(node * D);
     in.dx.col(column) = u.template segment<D>(node * D) - u_n_.template segment<D>(node * D);
   };
   put(0, k.slave);
-  for (int b = 0; b < D; ++b) put(b + 1, k.master[b]);
-  in.xm_n = in.x.template rightCols<D>() - in.dx.template rightCols<D>();
-  if (k.kind == Kind::stick)
-    in.offset = (X_.col(k.slave) + u_n_.template segment<D>(k.slave * D)) -
-                zero_work::stick_position<D, double>(in.xm_n, k.xi, k.gap);
+  for (int b = 0; b < NF; ++b) put(b + 1, k.master[b]);
+  in.xm_n = in.x.template rightCols<NF>() - in.dx.template rightCols<NF>();
+  if constexpr (NF == D)
+    if (k.kind == Kind::stick)
+      in.offset = (X_.col(k.slave) + u_n_.template segment<D>(k.slave * D)) -
+                  zero_work::stick_position<D, double>(in.xm_n, k.xi, k.gap);
   return in;
+}
+
+// On a facet of NF nodes, linear or curved: T = (N_b n nᵀ, τ) at the end
+// positions (the gap's variation n·(δx_s − Σ N_b δx_b) holds on either),
+// W from ā (zero_work::frictionless_test, its mid-point projection on the
+// curved facet for NF > D).
+template <int D>
+template <int NF>
+typename Elimination<D>::Local Elimination<D>::local_frictionless(const Constraint<D>& k,
+                                                                  const Eigen::VectorXd& u) const {
+  Local l;
+  const KernelOf<NF> in = kernel_input<NF>(k, u);
+  l.test.nodes.assign(k.master.begin(), k.master.end());
+  l.trial.nodes = l.test.nodes;
+  Projection<D> p;
+  if constexpr (NF == D)
+    p = project<D>(in.x.col(0), in.x.template rightCols<D>());
+  else
+    p = project_curved<D>(in.x.col(0), in.x.template rightCols<NF>()).projection;
+  l.trial.master = p.normal * (p.normal.transpose() * shape_block<D>(facet_weights<D>(NF, p.xi)));
+  l.trial.slip = p.tangents;
+  const auto t = zero_work::frictionless_test<D, double, NF>(in.x, in.dx, !k.push, k.friction, k.slip_scale);
+  const Vec<D> nu = missed_direction<D, double>(t.slip);
+  l.test.master = nu * (nu.transpose() * t.master);
+  l.test.slip = t.slip;
+  l.cosine = t.cosine;
+  return l;
 }
 
 template <int D>
 typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, const Eigen::VectorXd& u) const {
+  if (k.master.size() != D) {
+    if (k.kind != Kind::frictionless || k.eliminated >= 0)
+      throw Error(fmt::format("slave {}: only frictionless contact on a quadratic facet", k.slave));
+    return local_frictionless<kMaxFacetNodes<D>>(k, u);
+  }
+  if (k.kind == Kind::frictionless && k.eliminated < 0) return local_frictionless<D>(k, u);
   Local l;
   const Kernel in = kernel_input(k, u);
   l.test.nodes.assign(k.master.begin(), k.master.end());
@@ -302,29 +343,19 @@ typename Elimination<D>::Local Elimination<D>::local(const Constraint<D>& k, con
     l.test.master = zero_work::stick_test<D, double>(xm, in.dx.template rightCols<D>(), in.xm_n, in.offset, k.xi, k.gap);
     return l;
   }
-  const Projection<D> p = project<D>(in.x.col(0), xm);
-  l.trial.master = p.normal * (p.normal.transpose() * shape_block<D>(p.xi));
-  l.trial.slip = p.tangents;
+  // A driven slave's, held by facet node b: the same force pair, its
+  // remainder passed on from b's residual along c_b, W_bx = −ĉ c_xᵀ/|c_b|.
   const auto t = zero_work::frictionless_test<D, double>(in.x, in.dx, !k.push, k.friction, k.slip_scale);
-  if (k.eliminated >= 0) {
-    // Held by facet node b: the same force pair, its remainder passed on
-    // from b's residual along c_b, W_bx = −ĉ c_xᵀ/|c_b|.
-    const int b = facet_index(k, k.eliminated);
-    l.trial = driven_trial(k, positions(u));
-    Eigen::Matrix<double, D, D + 1> c;
-    driven_forces<D, double>(t, b, c, l.test.slip);
-    const double size = c.col(1 + b).norm();
-    const Vec<D> f = c.col(1 + b) / size;
-    l.test.nodes = l.trial.nodes;
-    l.test.master.resize(D, D * D);
-    for (int a = 0, col = 0; a <= D; ++a)
-      if (a != 1 + b) l.test.master.middleCols(D * col++, D) = -f * c.col(a).transpose() / size;
-    l.cosine = t.cosine;
-    return l;
-  }
-  const Vec<D> nu = missed_direction<D, double>(t.slip);
-  l.test.master = nu * (nu.transpose() * t.master);
-  l.test.slip = t.slip;
+  const int b = facet_index(k, k.eliminated);
+  l.trial = driven_trial(k, positions(u));
+  Eigen::Matrix<double, D, D + 1> c;
+  driven_forces<D, double>(t, b, c, l.test.slip);
+  const double size = c.col(1 + b).norm();
+  const Vec<D> f = c.col(1 + b) / size;
+  l.test.nodes = l.trial.nodes;
+  l.test.master.resize(D, D * D);
+  for (int a = 0, col = 0; a <= D; ++a)
+    if (a != 1 + b) l.test.master.middleCols(D * col++, D) = -f * c.col(a).transpose() / size;
   l.cosine = t.cosine;
   return l;
 }
@@ -383,7 +414,7 @@ int Elimination<D>::holder(const Constraint<D>& k, const Xi<D>& xi, int group) c
 
 template <int D>
 int Elimination<D>::facet_index(const Constraint<D>& k, int node) {
-  for (int a = 0; a < D; ++a)
+  for (int a = 0; a < k.master.size(); ++a)
     if (k.master[a] == node) return a;
   throw Error(fmt::format("node {} is not on the facet of slave {}'s constraint", node, k.slave));
 }
@@ -583,7 +614,7 @@ void Elimination<D>::compose(const Eigen::VectorXd* u) {
       continue;
     }
     l.trial.nodes.assign(k.master.begin(), k.master.end());
-    l.trial.master = shape_block<D>(k.xi);
+    l.trial.master = shape_block<D>(facet_weights<D>(k.master.size(), k.xi));
     if (k.kind == Kind::frictionless) l.trial.slip = k.tangents;
     l.test = l.trial;
     locals.push_back(std::move(l));
@@ -672,6 +703,13 @@ void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) 
     return;
   }
   const Constraint<D>& k = (*constraints_)[groups_[c].constraint[0]];
+  if (k.kind == Kind::frictionless && k.eliminated < 0) {
+    if (k.master.size() == D)
+      add_frictionless_variation<D>(c, k, g_s, K_r);
+    else
+      add_frictionless_variation<kMaxFacetNodes<D>>(c, k, g_s, K_r);
+    return;
+  }
   const Kernel in = kernel_input(k, u_);
   if (k.kind == Kind::stick) {
     constexpr int N = D * D;  // inputs and outputs: the facet's nodes
@@ -691,34 +729,43 @@ void Elimination<D>::add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) 
                                                         k.slip_scale);
   const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
   auto node = [&](int a) { return a == 0 ? k.slave : k.master[a - 1]; };
-  if (k.eliminated >= 0) {
-    // Held by facet node b: outputs λ c_x at the other nodes, with
-    // λ = −ĉ·g_b/|c_b|, and b's slips.
-    const int b = facet_index(k, k.eliminated);
-    Eigen::Matrix<AD<N>, D, D + 1> cf;
-    Eigen::Matrix<AD<N>, D, D - 1> slip;
-    driven_forces<D, AD<N>>(t, b, cf, slip);
-    const AD<N> lambda = -cf.col(1 + b).dot(gs) / cf.col(1 + b).squaredNorm();
-    Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();
-    for (int a = 0; a <= D; ++a) {
-      if (a == 1 + b) {
-        for (int j = 0; j < D - 1; ++j) G.row(a * D + j) = slip.col(j).dot(gs).derivatives().transpose();
-        continue;
-      }
-      for (int i = 0; i < D; ++i) G.row(a * D + i) = (lambda * cf(i, a)).derivatives().transpose();
+  // A driven slave's, held by facet node b: outputs λ c_x at the other nodes, with
+  // λ = −ĉ·g_b/|c_b|, and b's slips.
+  const int b = facet_index(k, k.eliminated);
+  Eigen::Matrix<AD<N>, D, D + 1> cf;
+  Eigen::Matrix<AD<N>, D, D - 1> slip;
+  driven_forces<D, AD<N>>(t, b, cf, slip);
+  const AD<N> lambda = -cf.col(1 + b).dot(gs) / cf.col(1 + b).squaredNorm();
+  Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();
+  for (int a = 0; a <= D; ++a) {
+    if (a == 1 + b) {
+      for (int j = 0; j < D - 1; ++j) G.row(a * D + j) = slip.col(j).dot(gs).derivatives().transpose();
+      continue;
     }
-    for (int a = 0; a <= D; ++a)
-      for (int e = 0; e <= D; ++e)
-        add_variation_block(c, node(a), a == 1 + b, node(e), G.template block<D, D>(a * D, e * D), K_r);
-    return;
+    for (int i = 0; i < D; ++i) G.row(a * D + i) = (lambda * cf(i, a)).derivatives().transpose();
   }
+  for (int a = 0; a <= D; ++a)
+    for (int e = 0; e <= D; ++e)
+      add_variation_block(c, node(a), a == 1 + b, node(e), G.template block<D, D>(a * D, e * D), K_r);
+}
+
+template <int D>
+template <int NF>
+void Elimination<D>::add_frictionless_variation(int c, const Constraint<D>& k, const Vec<D>& g_s,
+                                                SparseMatrix& K_r) const {
+  const KernelOf<NF> in = kernel_input<NF>(k, u_);
+  constexpr int N = D * (NF + 1);  // inputs: the slave, then the facet's nodes
+  const auto t = zero_work::frictionless_test<D, AD<N>, NF>(variables<N>(in.x), variables<N>(in.dx), !k.push,
+                                                            k.friction, k.slip_scale);
+  const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
+  auto node = [&](int a) { return a == 0 ? k.slave : k.master[a - 1]; };
   Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();  // outputs: the slips (row D−1 zero), the facet
   for (int j = 0; j < D - 1; ++j) G.row(j) = t.slip.col(j).dot(gs).derivatives().transpose();
   const Eigen::Matrix<AD<N>, D, 1> nu = missed_direction<D, AD<N>>(t.slip);  // as local()
   const AD<N> along = nu.dot(gs);
-  for (int o = 0; o < D * D; ++o) G.row(D + o) = (nu.dot(t.master.col(o)) * along).derivatives().transpose();
-  for (int a = 0; a <= D; ++a)
-    for (int b = 0; b <= D; ++b)
+  for (int o = 0; o < D * NF; ++o) G.row(D + o) = (nu.dot(t.master.col(o)) * along).derivatives().transpose();
+  for (int a = 0; a <= NF; ++a)
+    for (int b = 0; b <= NF; ++b)
       add_variation_block(c, node(a), a == 0, node(b), G.template block<D, D>(a * D, b * D), K_r);
 }
 
@@ -748,7 +795,7 @@ Eigen::MatrixXd Elimination<D>::force_variation(std::size_t c, const Vec<D>& f) 
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(N, N);
   if (groups_[c].count == 2) return G;
   const Constraint<D>& k = (*constraints_)[groups_[c].constraint[0]];
-  const Kernel in = kernel_input(k, u_);
+  const Kernel in = kernel_input(k, u_);  // linear facets only (contact_setup)
   if (k.eliminated >= 0) {
     // Held by facet node b: the force pair is κ c(u)/|c_b(u)| at every
     // node (f at b, −W_xᵀ f = κ c_x/|c_b| at the others), κ = f·ĉ_b held;
@@ -870,12 +917,18 @@ template <int D>
 Match<D> Elimination<D>::settle(const Constraint<D>& k, const Vec<D>& xs, int facet, const Positions<D>& x,
                                 int switches) const {
   const ContactSurface& master = (*pairs_)[k.pair].master;
-  const double tol = (*pairs_)[k.pair].search.inside_tolerance;
+  // Curved facets meet at kinks of their tangent: a convex one's quadratic
+  // extension beyond its border bends inside the neighbour, so a slave held
+  // just beyond the border (in the wedge between the two) would be pushed
+  // behind the neighbour, switched to it, and back at every iterate. A
+  // quadratic facet is kept until the slave is kCurvedBorder beyond it.
+  const double tol = quadratic<D>(master) ? std::max((*pairs_)[k.pair].search.inside_tolerance, kCurvedBorder)
+                                          : (*pairs_)[k.pair].search.inside_tolerance;
   // A neighbour must be lower by more than round-off: on a flat surface
   // (or at a vertex the slave sits on) all facets give the same gap, and a
   // choice made by round-off would hop between iterations.
   const double lower = (*pairs_)[k.pair].search.penetration_tolerance;
-  Match<D> best{facet, project<D>(xs, facet_nodes<D>(master, facet, x))};
+  Match<D> best{facet, project_on<D>(xs, master, facet, x)};
   if (switches >= kMaxSwitches) return best;
   // Never onto a facet that faces the way the slave does (find_master).
   const ContactSurface& slave = (*pairs_)[k.pair].slave;
@@ -893,9 +946,9 @@ Match<D> Elimination<D>::settle(const Constraint<D>& k, const Vec<D>& xs, int fa
     // At a concave edge only: the neighbour rises in front of this facet's
     // plane. Behind a convex one (a slave just behind a wall's face, level
     // with its bottom) the slave projects inside the face beyond too, far
-    // behind it.
+    // behind it. (A curved facet's: by its chord.)
     if (!((there.rowwise().mean() - here.col(0)).dot(best.projection.normal) > 0.0)) continue;
-    const Projection<D> p = project<D>(xs, there);
+    const Projection<D> p = project_on<D>(xs, master, next, x);
     if (p.inside(tol) && p.gap < best.projection.gap - lower && !(p.normal.dot(facing) > 0.0)) best = Match<D>{next, p};
   }
   return best;
@@ -904,9 +957,9 @@ Match<D> Elimination<D>::settle(const Constraint<D>& k, const Vec<D>& xs, int fa
 template <int D>
 void Elimination<D>::set_mid_point(Constraint<D>& k, int facet, const Positions<D>& x_mid) const {
   const ContactSurface& master = (*pairs_)[k.pair].master;
-  const Projection<D> mid = project<D>(x_mid.col(k.slave), facet_nodes<D>(master, facet, x_mid));  // (60)–(64), 2
+  const Projection<D> mid = project_on<D>(x_mid.col(k.slave), master, facet, x_mid);  // (60)–(64), 2
   k.facet = facet;
-  for (int a = 0; a < D; ++a) k.master[a] = master.facets(a, facet);
+  k.master = FacetIndex<D>(master.facets, facet);
   k.xi = mid.xi;
   k.normal = mid.normal;
   k.tangents = mid.tangents;
@@ -923,10 +976,10 @@ void Elimination<D>::place_frictionless(Constraint<D>& k, Positions<D>& x, Posit
     x_mid.col(k.slave) = 0.5 * (xs + xs_n);
     set_mid_point(k, best.facet, x_mid);
     Vec<D> relative = xs - xs_n;
-    const Vec<D> N = facet_shape<D>(k.xi);
-    for (int b = 0; b < D; ++b)
+    const FacetWeights<D> N = facet_weights<D>(k.master.size(), k.xi);
+    for (int b = 0; b < k.master.size(); ++b)
       relative -= N(b) * (x.col(k.master[b]) - X_.col(k.master[b]) - u_n_.template segment<D>(k.master[b] * D));
-    xs -= relative.dot(k.normal) * k.normal;  // flat facet: ξ_{n+½} and n_{n+½} unchanged
+    xs -= relative.dot(k.normal) * k.normal;  // flat facet: ξ_{n+½} and n_{n+½} unchanged (curved: to first order)
     x.col(k.slave) = xs;
     x_mid.col(k.slave) = 0.5 * (xs + xs_n);
     set_mid_point(k, best.facet, x_mid);
@@ -959,7 +1012,7 @@ void Elimination<D>::place_driven(Constraint<D>& k, int group, Positions<D>& x, 
   if (best.facet != k.facet) {
     ++switches;
     k.facet = best.facet;
-    for (int a = 0; a < D; ++a) k.master[a] = master.facets(a, best.facet);
+    k.master = FacetIndex<D>(master.facets, best.facet);
   }
   if (std::find(k.master.begin(), k.master.end(), k.eliminated) == k.master.end())
     k.eliminated = holder(k, best.projection.xi, group);
@@ -1076,16 +1129,16 @@ typename Elimination<D>::Coefficients Elimination<D>::placement(const Group& g, 
   if (k.eliminated >= 0) return driven_trial(k, x);
   Coefficients p;
   p.nodes.assign(k.master.begin(), k.master.end());
-  zero_work::Facet<D, double> xm;
-  for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
   if (k.kind == Kind::stick) {
+    zero_work::Facet<D, double> xm;
+    for (int b = 0; b < D; ++b) xm.col(b) = x.col(k.master[b]);
     p.master = zero_work::stick_jacobian<D, double>(xm, k.xi, k.gap);
     return p;
   }
-  const Projection<D> pr = project<D>(x.col(k.slave), xm);
-  const Vec<D> N = facet_shape<D>(pr.xi);
-  p.master.resize(D, D * D);
-  for (int b = 0; b < D; ++b) p.master.middleCols(b * D, D) = N(b) * pr.normal * pr.normal.transpose();
+  const Projection<D> pr = project_on<D>(x.col(k.slave), (*pairs_)[k.pair].master, k.facet, x);
+  const FacetWeights<D> N = facet_weights<D>(k.master.size(), pr.xi);
+  p.master.resize(D, D * k.master.size());
+  for (int b = 0; b < k.master.size(); ++b) p.master.middleCols(b * D, D) = N(b) * pr.normal * pr.normal.transpose();
   return p;
 }
 

@@ -26,12 +26,17 @@ void write_constraint(ByteWriter& w, const Constraint<D>& c) {
   w.value(c.slip_scale);
 }
 
+/// A constraint as write_constraint wrote it: its master facet has as many
+/// nodes as its pair's master surface's facets (D, or NF if quadratic).
 template <int D>
-Constraint<D> read_constraint(ByteReader& r, int num_nodes, int num_pairs) {
+Constraint<D> read_constraint(ByteReader& r, int num_nodes, const std::vector<ContactPair<D>>& pairs) {
+  const int num_pairs = static_cast<int>(pairs.size());
   Constraint<D> c;
   c.pair = r.template value<std::int32_t>();
   c.slave = r.template value<std::int32_t>();
   c.facet = r.template value<std::int32_t>();
+  if (c.pair < 0 || c.pair >= num_pairs) r.fail("a contact constraint is malformed (an unknown pair)");
+  c.master.resize(static_cast<int>(pairs[static_cast<std::size_t>(c.pair)].master.facets.rows()));
   for (int& m : c.master) m = r.template value<std::int32_t>();
   r.doubles(c.xi.data(), c.xi.size(), "a constraint's ξ");
   r.doubles(c.normal.data(), c.normal.size(), "a constraint's normal");
@@ -44,7 +49,7 @@ Constraint<D> read_constraint(ByteReader& r, int num_nodes, int num_pairs) {
   const auto hold = r.template value<std::int32_t>();
   c.friction = r.template value<double>();
   c.slip_scale = r.template value<double>();
-  bool nodes_ok = c.slave >= 0 && c.slave < num_nodes && c.pair >= 0 && c.pair < num_pairs;
+  bool nodes_ok = c.slave >= 0 && c.slave < num_nodes;
   for (int m : c.master) nodes_ok = nodes_ok && m >= 0 && m < num_nodes;
   if (!nodes_ok || (kind != 0 && kind != 1) || (hold != 0 && hold != 1) || !(c.friction >= 0.0) ||
       !(c.slip_scale >= 0.0) || (c.friction > 0.0 && !(c.slip_scale > 0.0)))
@@ -172,8 +177,8 @@ void HeldMethod<D>::load(const std::string& bytes, const std::string& what) {
   const auto count = r.value<std::uint64_t>();
   if (count > static_cast<std::uint64_t>(model_.num_nodes())) r.fail("more constraints than nodes");
   std::vector<Constraint<D>> constraints;
-  const int pairs = static_cast<int>(active_.pairs().size());
-  for (std::uint64_t i = 0; i < count; ++i) constraints.push_back(read_constraint<D>(r, model_.num_nodes(), pairs));
+  for (std::uint64_t i = 0; i < count; ++i)
+    constraints.push_back(read_constraint<D>(r, model_.num_nodes(), active_.pairs()));
   std::vector<double> releases(active_.release_times().size()), activations(active_.activation_times().size());
   r.doubles(releases.data(), releases.size(), "the slaves' release times");
   r.doubles(activations.data(), activations.size(), "the pairs' activation times");

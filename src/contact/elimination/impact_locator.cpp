@@ -69,10 +69,10 @@ double ImpactLocator<D>::split_at(const Constraint<D>& c, const Match<D>& end, c
   const double drop = c.gap - end.projection.gap;  // > target
   double fraction = target / drop;                 // the straight path's estimate
   if (v_n_.size() > 0) {
-    const Projection<D> start = project<D>(x_n.col(c.slave), facet_nodes<D>(master, c.facet, x_n));
-    const Vec<D> N = facet_shape<D>(start.xi);
+    const Projection<D> start = project_on<D>(x_n.col(c.slave), master, c.facet, x_n);
+    const FacetWeights<D> N = facet_weights<D>(c.master.size(), start.xi);
     Vec<D> relative = v_n_.template segment<D>(c.slave * D);
-    for (int b = 0; b < D; ++b) relative -= N(b) * v_n_.template segment<D>(c.master[b] * D);
+    for (int b = 0; b < c.master.size(); ++b) relative -= N(b) * v_n_.template segment<D>(c.master[b] * D);
     const double slope = dt_ * relative.dot(start.normal);  // dg/ds at s = 0
     const double curve = -drop - slope;                     // g(s) = γ + slope s + curve s²
     // Smallest root in (0, 1] of curve s² + slope s + target = 0, written

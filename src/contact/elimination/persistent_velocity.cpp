@@ -37,14 +37,23 @@ PersistentVelocity<D>::PersistentVelocity(const model::Model<D>& model, const Sp
       lumped_(Eigen::VectorXd::Zero(model.num_dofs())),
       prescribed_(static_cast<std::size_t>(model.num_dofs()), 0),
       free_body_(static_cast<std::size_t>(model.num_nodes()), 0) {
-  if (nodal_) {
-    for (int k = 0; k < mass.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(mass, k); it; ++it)
+  // M_L: the row sums of M; where one is not positive (the vertices of
+  // quadratic cells: 0 on a 6-node triangle, negative on a 10-node
+  // tetrahedron), M's diagonal scaled to the same total (HRZ lumping) for
+  // every dof instead, so that every dof of a free body stays free. M_L
+  // is the metric of the corrections only; M keeps E, L and J.
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(model.num_dofs());
+  for (int k = 0; k < mass.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(mass, k); it; ++it) {
+      if (nodal_) {
         lumped_.segment<D>(it.row() * D).array() += it.value();
-  } else {
-    for (int k = 0; k < mass.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(mass, k); it; ++it) lumped_[it.row()] += it.value();
-  }
+        if (it.row() == it.col()) diagonal.segment<D>(it.row() * D).array() += it.value();
+      } else {
+        lumped_[it.row()] += it.value();
+        if (it.row() == it.col()) diagonal[it.row()] += it.value();
+      }
+    }
+  if ((lumped_.array() <= 0.0 && diagonal.array() > 0.0).any()) lumped_ = diagonal * (lumped_.sum() / diagonal.sum());
   for (int d : model.held_dofs()) prescribed_[d] = 1;
   for (const model::FreeBody& b : model.free_bodies)
     std::fill_n(free_body_.begin() + b.first_node, b.num_nodes, 1);
@@ -113,17 +122,17 @@ VelocityUpdate PersistentVelocity<D>::apply(const std::vector<Constraint<D>>& co
       continue;
     const ContactPair<D>& pair = pairs[c.pair];
     const FacetNodes<D> xm = facet_nodes<D>(pair.master, c.facet, x);
-    auto add = [&](int row, const Vec<D>& dir, const Vec<D>& N) {
+    auto add = [&](int row, const Vec<D>& dir, const FacetWeights<D>& N) {
       row_of.emplace_back(static_cast<std::size_t>(&c - constraints.data()), dir);
       if (impulses) (*impulses)[row_of.back().first].weights = N;
       for (int i = 0; i < D; ++i) {
         rows.emplace_back(row, c.slave * D + i, dir(i));
-        for (int b = 0; b < D; ++b) rows.emplace_back(row, c.master[b] * D + i, -N(b) * dir(i));
+        for (int b = 0; b < c.master.size(); ++b) rows.emplace_back(row, c.master[b] * D + i, -N(b) * dir(i));
       }
     };
-    if (c.kind == Kind::frictionless) {
-      const Projection<D> end = project<D>(x.col(c.slave), xm);
-      add(m++, end.normal, facet_shape<D>(end.xi));
+    if (c.kind == Kind::frictionless) {  // ġ = n·(v_s − Σ N_b v_b), any facet
+      const Projection<D> end = project_on<D>(x.col(c.slave), pair.master, c.facet, x);
+      add(m++, end.normal, facet_weights<D>(c.master.size(), end.xi));
     } else {
       // The rate of x_s − F(x_m), F(x_m) = N(ξ̄) x_m + γ n(x_m): its rows
       // (1, −∂F/∂x_m) have no moment where x_s = F(x_m) (F is frame-

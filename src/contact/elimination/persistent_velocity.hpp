@@ -49,7 +49,7 @@ struct VelocityUpdate {
 template <int D>
 struct SlaveImpulse {
   Vec<D> impulse = Vec<D>::Zero();  ///< on the slave [N s]
-  Vec<D> weights = Vec<D>::Zero();  ///< N_b at the point of the facet it acts against
+  FacetWeights<D> weights = FacetWeights<D>::Zero(D);  ///< N_b at the point of the facet it acts against
 };
 
 template <int D>

@@ -27,7 +27,7 @@ std::vector<double> normal_forces(const std::vector<Constraint<D>>& active, cons
       // residual carries N_b of the force, on the facet's side.
       int b = 0;
       while (c.master[b] != c.eliminated) ++b;
-      f[j] = -g.template segment<D>(c.eliminated * D).dot(c.normal) / facet_shape<D>(c.xi)(b);
+      f[j] = -g.template segment<D>(c.eliminated * D).dot(c.normal) / facet_weights<D>(c.master.size(), c.xi)(b);
       continue;
     }
     const Vec<D> g_s = g.template segment<D>(c.slave * D);

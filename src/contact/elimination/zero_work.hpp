@@ -28,6 +28,7 @@
 /// (unsupported/Eigen/AutoDiff).
 #include <Eigen/Dense>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <type_traits>
@@ -189,13 +190,18 @@ Plane<D, S, NF> project_on_curved(const V<D, S>& p, const Facet<D, S, NF>& x, bo
   return out;
 }
 
+/// Whether project_on_facet keeps Appendix 1's curvature term on quadratic
+/// facets: always, except in the tests' negative control (which shows the
+/// reduced tangent wrong without it).
+inline std::atomic<bool> appendix_one_terms{true};
+
 /// project_on_plane (NF = D) or project_on_curved.
 template <int D, class S, int NF>
 Plane<D, S, NF> project_on_facet(const V<D, S>& p, const Facet<D, S, NF>& x) {
   if constexpr (NF == D)
     return project_on_plane<D, S>(p, x);
   else
-    return project_on_curved<D, S, NF>(p, x);
+    return project_on_curved<D, S, NF>(p, x, appendix_one_terms.load(std::memory_order_relaxed));
 }
 
 /// Θ: the rotation of the least-squares rigid motion of a displacement δx
