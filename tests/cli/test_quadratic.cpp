@@ -141,8 +141,7 @@ master = "wall:surface"
 /// through the impact. Not yet: slaves sliding over the kinks between
 /// curved facets end behind the neighbour by up to 0.6 mm here (facets of
 /// 40 mm), where linear facets leave none; printed, and stated in
-/// docs/validation.md, until the facets' extension beyond their border is
-/// their tangent plane.
+/// docs/validation.md (docs/notes/p2_inventory.md: what is known of why).
 void expect_contact_conserved(const std::filesystem::path& out, const char* name) {
   expect_conserved(out, name);
   const io::History h = io::read_history(out / "history.csv");
