@@ -134,7 +134,7 @@ struct ContactForce {
   Vec<D> impulse = Vec<D>::Zero();  ///< an impulse at the step's end (persistent contact) [N s]
   /// The master facet's nodes and the weights N_b(ξ) with which they took
   /// the opposite of `impulse` (a prescribed master's reaction).
-  FacetIndex<D> master;
+  FacetIndex<D> master{};
   FacetWeights<D> weights = FacetWeights<D>::Zero(D);
 };
 
