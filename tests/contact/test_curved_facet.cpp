@@ -251,6 +251,55 @@ TEST(CurvedFacet, ZeroWorkDirectionDoesNoWorkAndHasNoResultantOrMoment) {
   check_curved_zero_work<3>();
 }
 
+/// Two constraints on one slave, on two curved facets (a notch): with the
+/// nodes' residual g = f_1 ā_1 + f_2 ā_2 (each constraint's zero-work
+/// direction) the pair's test columns and slip row leave nothing (Wᵀg = 0),
+/// so the pair's forces do no work and have no resultant or moment.
+template <int D>
+void check_curved_pair() {
+  constexpr int NF = CurvedFacet<D>::kNodes;
+  const auto [x_n, dx1] = curved_step<D>();
+  Mat<D> turn = Mat<D>::Identity();  // facet 2: facet 1 turned by 0.5 rad about the slave
+  turn.template topLeftCorner<2, 2>() << std::cos(0.5), -std::sin(0.5), std::sin(0.5), std::cos(0.5);
+  zero_work::PairNodes<D, double, NF> x, dx;
+  x.col(0) = x_n.col(0) + dx1.col(0);
+  dx.col(0) = dx1.col(0);
+  for (int b = 0; b < NF; ++b) {
+    x.col(1 + b) = x_n.col(1 + b) + dx1.col(1 + b);
+    dx.col(1 + b) = dx1.col(1 + b);
+    x.col(1 + NF + b) = x_n.col(0) + turn * (x_n.col(1 + b) - x_n.col(0)) + dx1.col(1 + b).reverse();
+    dx.col(1 + NF + b) = dx1.col(1 + b).reverse();
+  }
+  const auto t = zero_work::pair_frictionless_test<D, double, NF>(x, dx);
+  std::array<zero_work::Nodes<D, double, NF>, 2> abar;
+  for (int k = 0; k < 2; ++k) {
+    zero_work::Nodes<D, double, NF> xk, dxk;
+    xk.col(0) = x.col(0);
+    dxk.col(0) = dx.col(0);
+    xk.template rightCols<NF>() = x.template middleCols<NF>(1 + k * NF);
+    dxk.template rightCols<NF>() = dx.template middleCols<NF>(1 + k * NF);
+    zero_work::Plane<D, double, NF> mid;
+    abar[k] = zero_work::frictionless_direction<D, double, NF>(xk, dxk, mid);
+    EXPECT_LT(std::abs(abar[k].cwiseProduct(dxk).sum()), 1e-14 * abar[k].norm() * dxk.norm());
+  }
+  const double f[2] = {1.3, -0.7};
+  const Vec<D> g_s = f[0] * abar[0].col(0) + f[1] * abar[1].col(0);
+  double left = std::abs(t.slip.dot(g_s));
+  for (int k = 0; k < 2; ++k)
+    for (int b = 0; b < NF; ++b)
+      for (int i = 0; i < D; ++i)
+        left = std::max(left, std::abs(f[k] * abar[k](i, b + 1) + t.master.col((k * NF + b) * D + i).dot(g_s)));
+  const double scale = std::abs(f[0]) * abar[0].norm() + std::abs(f[1]) * abar[1].norm();
+  std::printf("[ measured ] %dD pair on curved facets: |W^T g| %.1e of |g| %.1e\n", D, left, scale);
+  EXPECT_LT(left, 1e-13 * scale);
+  EXPECT_GT(t.master.norm(), 0.1);  // not a zero map
+}
+
+TEST(CurvedFacet, PairTestColumnsLeaveNothingOfTheTwoZeroWorkForces) {
+  check_curved_pair<2>();
+  check_curved_pair<3>();
+}
+
 /// The derivative of the one-step projection (project_on_curved: ξ, n, g,
 /// N) by automatic differentiation is exact (Taylor order 2); without H's
 /// curvature term it is not (order 1), and neither are then the test

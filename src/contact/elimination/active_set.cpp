@@ -26,10 +26,10 @@ template <int D>
 std::optional<Constraint<D>> ActiveSet<D>::activation(int p, int s, const Match<D>& match, const Positions<D>& x_n,
                                                       const Positions<D>& x_np1) const {
   if (!(match.projection.gap < -pair(p).search.penetration_tolerance)) return std::nullopt;
-  // Two constraints on one slave are held on linear facets only (the pair
-  // kernels, zero_work::pair_frictionless_test).
+  // Two constraints on one slave are held on facets of one order (the pair
+  // kernels, zero_work::pair_frictionless_test, take both linear or both curved).
   const auto quadratic = [&](int q) { return pair(q).master.facets.rows() != D; };
-  if (index_.count(s) > 0 && (quadratic(p) || quadratic(index_.first_pair(s)))) return std::nullopt;
+  if (index_.count(s) > 0 && quadratic(p) != quadratic(index_.first_pair(s))) return std::nullopt;
   if (index_.active_in(p, s)) {
     if (index_.count(s) != 1 || index_.first_pair(s) != p) return std::nullopt;
     const auto held =

@@ -207,10 +207,12 @@ class Elimination {
   void add_frictionless_variation(int c, const Constraint<D>& k, const Vec<D>& g_s, SparseMatrix& K_r) const;
   /// End positions and displacements of a two-constraint group's nodes:
   /// the slave, facet 1's nodes, facet 2's.
-  struct PairKernel {
-    Eigen::Matrix<double, D, 2 * D + 1> x, dx;
+  template <int NF>
+  struct PairKernelOf {
+    Eigen::Matrix<double, D, 2 * NF + 1> x, dx;
   };
-  [[nodiscard]] PairKernel pair_input(const Group& g, const Eigen::VectorXd& u) const;
+  template <int NF>
+  [[nodiscard]] PairKernelOf<NF> pair_input(const Group& g, const Eigen::VectorXd& u) const;
   /// Marks the second pass's constraints that repeat another at u (suspended_).
   void suspend_repeats(const Eigen::VectorXd* u);
   /// Groups of the constraints not suspended at u (if given), the driven
@@ -236,6 +238,8 @@ class Elimination {
   /// n_k and shape values at the slave's projections (ξ_k), the test map
   /// from the zero-work directions if u is given, else the trial's.
   [[nodiscard]] Local local_pair(const Group& g, const Eigen::VectorXd* u) const;
+  template <int NF>
+  [[nodiscard]] Local local_pair_of(const Group& g, const Eigen::VectorXd* u) const;
   /// The facet of constraint k's master surface that slave position xs
   /// projects on, starting from `facet` (walking and, at a concave edge,
   /// taking a lower neighbour while switches stay under the cap).
@@ -258,6 +262,8 @@ class Elimination {
   [[nodiscard]] SparseMatrix assemble(const std::vector<BlockRow<D>>& rows) const;
   void add_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
   void add_pair_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
+  template <int NF>
+  void add_pair_variation_of(int c, const Vec<D>& g_s, SparseMatrix& K_r) const;
   /// K_r += Ŵ_aᵀ G T̂_b: the derivative G of constraint c's test output at
   /// node `out` (its slip slots if `slip`) by the position of node `in`,
   /// through the nodes' rows of W and T (the identity for a free node).

@@ -495,38 +495,55 @@ void Elimination<D>::make_groups(const Eigen::VectorXd* u) {
 }
 
 template <int D>
-typename Elimination<D>::PairKernel Elimination<D>::pair_input(const Group& g, const Eigen::VectorXd& u) const {
-  PairKernel in;
+template <int NF>
+typename Elimination<D>::template PairKernelOf<NF> Elimination<D>::pair_input(const Group& g,
+                                                                              const Eigen::VectorXd& u) const {
+  PairKernelOf<NF> in;
   auto put = [&](int column, int node) {
     in.x.col(column) = X_.col(node) + u.template segment<D>(node * D);
     in.dx.col(column) = u.template segment<D>(node * D) - u_n_.template segment<D>(node * D);
   };
   put(0, g.slave);
-  for (int k = 0; k < 2; ++k)
-    for (int b = 0; b < D; ++b) put(1 + k * D + b, (*constraints_)[g.constraint[k]].master[b]);
+  for (int k = 0; k < 2; ++k) {
+    const Constraint<D>& c = (*constraints_)[g.constraint[k]];
+    if (c.master.size() != NF)
+      throw Error(fmt::format("slave {}'s facet has {} nodes, not {}", g.slave, c.master.size(), NF));
+    for (int b = 0; b < NF; ++b) put(1 + k * NF + b, c.master[b]);
+  }
   return in;
 }
 
 // The trial map of a slave holding two gaps: to first order, gap k moves
-// by n_kᵀ(Δx_s − N_k Δx_mk) (exact for a flat facet, whatever the gap,
-// since x_s − x(ξ_k) ∥ n_k ⊥ δn_k), so Δx_s = C [n_1ᵀ N_1 Δx_m1; n_2ᵀ N_2
-// Δx_m2] + a Δξ with C = [n_1 n_2] G⁻¹ holds both, a = n_1 × n_2 / |…| the
-// free slip (3D).
+// by n_kᵀ(Δx_s − N_k Δx_mk) (exact for a linear or curved facet, whatever
+// the gap, since x_s − x(ξ_k) ∥ n_k ⊥ x_ξ(ξ_k)), so Δx_s = C [n_1ᵀ N_1
+// Δx_m1; n_2ᵀ N_2 Δx_m2] + a Δξ with C = [n_1 n_2] G⁻¹ holds both,
+// a = n_1 × n_2 / |…| the free slip (3D).
 template <int D>
 typename Elimination<D>::Local Elimination<D>::local_pair(const Group& g, const Eigen::VectorXd* u) const {
+  if ((*constraints_)[g.constraint[0]].master.size() == D) return local_pair_of<D>(g, u);
+  return local_pair_of<kMaxFacetNodes<D>>(g, u);
+}
+
+template <int D>
+template <int NF>
+typename Elimination<D>::Local Elimination<D>::local_pair_of(const Group& g, const Eigen::VectorXd* u) const {
   std::array<Vec<D>, 2> normal;
-  std::array<Vec<D>, 2> shape;
-  std::optional<PairKernel> in;
-  if (u) in = pair_input(g, *u);
+  std::array<Eigen::Matrix<double, NF, 1>, 2> shape;
+  std::optional<PairKernelOf<NF>> in;
+  if (u) in = pair_input<NF>(g, *u);
   for (int k = 0; k < 2; ++k) {
     const Constraint<D>& c = (*constraints_)[g.constraint[k]];
     if (in) {
-      const Projection<D> p = project<D>(in->x.col(0), in->x.template middleCols<D>(1 + k * D));
+      Projection<D> p;
+      if constexpr (NF == D)
+        p = project<D>(in->x.col(0), in->x.template middleCols<D>(1 + k * D));
+      else
+        p = project_curved<D>(in->x.col(0), in->x.template middleCols<NF>(1 + k * NF)).projection;
       normal[k] = p.normal;
-      shape[k] = facet_shape<D>(p.xi);
+      shape[k] = facet_weights<D>(NF, p.xi);
     } else {
       normal[k] = c.normal;
-      shape[k] = facet_shape<D>(c.xi);
+      shape[k] = facet_weights<D>(NF, c.xi);
     }
   }
   Eigen::Matrix<double, D, 2> n;
@@ -537,10 +554,10 @@ typename Elimination<D>::Local Elimination<D>::local_pair(const Group& g, const 
     const Constraint<D>& c = (*constraints_)[g.constraint[k]];
     l.trial.nodes.insert(l.trial.nodes.end(), c.master.begin(), c.master.end());
   }
-  l.trial.master.resize(D, 2 * D * D);
+  l.trial.master.resize(D, 2 * NF * D);
   for (int k = 0; k < 2; ++k)
-    for (int b = 0; b < D; ++b)
-      l.trial.master.middleCols((k * D + b) * D, D) = shape[k](b) * C.col(k) * normal[k].transpose();
+    for (int b = 0; b < NF; ++b)
+      l.trial.master.middleCols((k * NF + b) * D, D) = shape[k](b) * C.col(k) * normal[k].transpose();
   if constexpr (D == 3) l.trial.slip.col(0) = normal[0].cross(normal[1]).normalized();
   l.test.nodes = l.trial.nodes;
   if (!in) {
@@ -548,7 +565,7 @@ typename Elimination<D>::Local Elimination<D>::local_pair(const Group& g, const 
     l.test.slip = l.trial.slip;
     return l;
   }
-  const auto t = zero_work::pair_frictionless_test<D, double>(in->x, in->dx);
+  const auto t = zero_work::pair_frictionless_test<D, double, NF>(in->x, in->dx);
   l.test.master = t.master;
   l.test.slip.col(0) = t.slip;
   return l;
@@ -773,19 +790,28 @@ void Elimination<D>::add_frictionless_variation(int c, const Constraint<D>& k, c
 // slave, facet 1's nodes and facet 2's.
 template <int D>
 void Elimination<D>::add_pair_variation(int c, const Vec<D>& g_s, SparseMatrix& K_r) const {
+  if ((*constraints_)[groups_[c].constraint[0]].master.size() == D)
+    add_pair_variation_of<D>(c, g_s, K_r);
+  else
+    add_pair_variation_of<kMaxFacetNodes<D>>(c, g_s, K_r);
+}
+
+template <int D>
+template <int NF>
+void Elimination<D>::add_pair_variation_of(int c, const Vec<D>& g_s, SparseMatrix& K_r) const {
   const Group& g = groups_[c];
-  const PairKernel in = pair_input(g, u_);
-  constexpr int N = D * (2 * D + 1);
-  const auto t = zero_work::pair_frictionless_test<D, AD<N>>(variables<N>(in.x), variables<N>(in.dx));
+  const PairKernelOf<NF> in = pair_input<NF>(g, u_);
+  constexpr int N = D * (2 * NF + 1);
+  const auto t = zero_work::pair_frictionless_test<D, AD<N>, NF>(variables<N>(in.x), variables<N>(in.dx));
   const Eigen::Matrix<AD<N>, D, 1> gs = g_s.template cast<AD<N>>();
   Eigen::Matrix<double, N, N> G = Eigen::Matrix<double, N, N>::Zero();  // outputs: the slip (rows 1…D−1 zero), the facets
   if constexpr (D == 3) G.row(0) = t.slip.dot(gs).derivatives().transpose();
-  for (int o = 0; o < 2 * D * D; ++o) G.row(D + o) = t.master.col(o).dot(gs).derivatives().transpose();
+  for (int o = 0; o < 2 * D * NF; ++o) G.row(D + o) = t.master.col(o).dot(gs).derivatives().transpose();
   auto node = [&](int a) {
-    return a == 0 ? g.slave : (*constraints_)[g.constraint[(a - 1) / D]].master[(a - 1) % D];
+    return a == 0 ? g.slave : (*constraints_)[g.constraint[(a - 1) / NF]].master[(a - 1) % NF];
   };
-  for (int a = 0; a <= 2 * D; ++a)
-    for (int b = 0; b <= 2 * D; ++b)
+  for (int a = 0; a <= 2 * NF; ++a)
+    for (int b = 0; b <= 2 * NF; ++b)
       add_variation_block(c, node(a), a == 0, node(b), G.template block<D, D>(a * D, b * D), K_r);
 }
 
@@ -1074,10 +1100,11 @@ void Elimination<D>::place_pair(const Group& g, Positions<D>& x, Positions<D>& x
       Match<D> best = settle(*k[j], xs, facet[j], x, switches_[g.constraint[j]]);
       if (crease && best.facet != facet[j]) {
         const int other = j == 0 ? facet[1] : next[0];
-        const Vec<D> m = facet_normal<D>(facet_nodes<D>(master, other, x));
+        const Vec<D> m = quadratic<D>(master) ? project_on<D>(xs, master, other, x).normal
+                                              : facet_normal<D>(facet_nodes<D>(master, other, x));
         const double cosine = best.projection.normal.dot(m);
         if (best.facet == other || 1.0 - cosine * cosine < kCreaseSine * kCreaseSine)
-          best = Match<D>{facet[j], project<D>(xs, facet_nodes<D>(master, facet[j], x))};
+          best = Match<D>{facet[j], project_on<D>(xs, master, facet[j], x)};
       }
       n.col(j) = best.projection.normal;
       e(j) = best.projection.gap - k[j]->gap;

@@ -400,10 +400,11 @@ TestColumns<D, S, NF> frictionless_test(const Nodes<D, S, NF>& x, const Nodes<D,
 
 /// Two frictionless constraints on one slave (a node on two slave
 /// surfaces, such as the rim where a ring's side meets the plane it stands
-/// on): positions of column 0 the slave, 1…D the nodes of facet 1, D+1…2D
-/// those of facet 2.
-template <int D, class S>
-using PairNodes = Eigen::Matrix<S, D, 2 * D + 1>;
+/// on, or a slave in the notch between two facets): positions of column 0
+/// the slave, 1…NF the nodes of facet 1, NF+1…2NF those of facet 2 (both
+/// linear or both curved).
+template <int D, class S, int NF = D>
+using PairNodes = Eigen::Matrix<S, D, 2 * NF + 1>;
 
 /// The slave parts of the two constraints' test columns. Each constraint k
 /// has its own zero-work direction ā_k (frictionless_direction on the slave
@@ -418,32 +419,32 @@ using PairNodes = Eigen::Matrix<S, D, 2 * D + 1>;
 /// L and J are kept as for one constraint. With ā_k = a_k these are the
 /// transpose of the trial map N_k(b) C_k n_kᵀ, C = [n_1 n_2] G⁻¹ (the
 /// paper's W = T).
-template <int D, class S>
+template <int D, class S, int NF = D>
 struct PairTestColumns {
-  Eigen::Matrix<S, D, 2 * D * D> master;  ///< column (k·D + b)·D + i: facet k's node b, dof i
-  V<D, S> slip;                           ///< 3D: the slip equation's direction; 2D: zero
+  Eigen::Matrix<S, D, 2 * D * NF> master;  ///< column (k·NF + b)·D + i: facet k's node b, dof i
+  V<D, S> slip;                            ///< 3D: the slip equation's direction; 2D: zero
 };
 
-template <int D, class S>
-PairTestColumns<D, S> pair_frictionless_test(const PairNodes<D, S>& x, const PairNodes<D, S>& dx) {
-  std::array<Nodes<D, S>, 2> abar;
+template <int D, class S, int NF = D>
+PairTestColumns<D, S, NF> pair_frictionless_test(const PairNodes<D, S, NF>& x, const PairNodes<D, S, NF>& dx) {
+  std::array<Nodes<D, S, NF>, 2> abar;
   Eigen::Matrix<S, D, 2> A;
   for (int k = 0; k < 2; ++k) {
-    Nodes<D, S> xk, dxk;
+    Nodes<D, S, NF> xk, dxk;
     xk.col(0) = x.col(0);
     dxk.col(0) = dx.col(0);
-    xk.template rightCols<D>() = x.template middleCols<D>(1 + k * D);
-    dxk.template rightCols<D>() = dx.template middleCols<D>(1 + k * D);
-    Plane<D, S> mid;
-    abar[k] = frictionless_direction<D, S>(xk, dxk, mid);
+    xk.template rightCols<NF>() = x.template middleCols<NF>(1 + k * NF);
+    dxk.template rightCols<NF>() = dx.template middleCols<NF>(1 + k * NF);
+    Plane<D, S, NF> mid;
+    abar[k] = frictionless_direction<D, S, NF>(xk, dxk, mid);
     A.col(k) = abar[k].col(0);
   }
   const Eigen::Matrix<S, 2, 2> AtA = A.transpose() * A;
   const Eigen::Matrix<S, D, 2> B = A * AtA.inverse();
-  PairTestColumns<D, S> t;
+  PairTestColumns<D, S, NF> t;
   for (int k = 0; k < 2; ++k)
-    for (int b = 0; b < D; ++b)
-      for (int i = 0; i < D; ++i) t.master.col((k * D + b) * D + i) = -abar[k](i, b + 1) * B.col(k);
+    for (int b = 0; b < NF; ++b)
+      for (int i = 0; i < D; ++i) t.master.col((k * NF + b) * D + i) = -abar[k](i, b + 1) * B.col(k);
   if constexpr (D == 3) {
     t.slip = A.col(0).cross(A.col(1)).normalized();
   } else {
