@@ -10,7 +10,6 @@ NodePartition partition_nodes(int num_nodes, const Eigen::MatrixXi& cells, int p
   if (first < 0 || first > end || end > num_nodes) throw std::invalid_argument("partition_nodes: bad node range");
   if (parts < 1) throw std::invalid_argument("partition_nodes: parts must be at least 1");
   if (cells.rows() > kMaxCorners) throw std::invalid_argument("partition_nodes: at most 16 nodes per cell");
-  const auto corners = static_cast<long long>(cells.size());
   std::vector<long long> before(static_cast<std::size_t>(num_nodes) + 1, 0);  // corners at nodes < n
   for (Eigen::Index i = 0; i < cells.size(); ++i) ++before[static_cast<std::size_t>(cells.data()[i]) + 1];
   for (int n = 0; n < num_nodes; ++n) before[n + 1] += before[n];

@@ -100,12 +100,15 @@ struct Hertz {
   double poisson = 0.3;    ///< ν of the disc
   double density = 1.0e3;  ///< ρ of the disc and block [kg/m³]
   double gap = 1e-4;       ///< initial gaps [m]
+  int order = 1;           ///< of the disc's and the block's cells
+  std::string scheme = "paper";  ///< [active_set] scheme
   std::string directory = "out/validation/hertz";
 
   [[nodiscard]] double plane_strain_modulus() const { return young / (1.0 - poisson * poisson); }
 };
 
 inline std::string hertz_scenario(const Hertz& h) {
+  const std::string order = h.order == 1 ? "" : fmt::format("order = {}\n", h.order);
   return fmt::format(
       R"toml(title = "Hertz: disc pressed onto a rigid plane (plane strain)"
 dimension = 2
@@ -119,7 +122,7 @@ directory = "{}"
 vtu_every = 10
 
 [active_set]
-scheme = "paper"
+scheme = "{}"
 
 [[body]]
 name = "disc"
@@ -131,7 +134,7 @@ density = {}
 generator = "disc"
 radius = {}
 size = {}
-
+{}
 [[body]]
 name = "block"
 translate = [0.0, {}]
@@ -144,7 +147,7 @@ generator = "rectangle"
 lx = {}
 ly = {}
 size = {}
-
+{}
 [[body]]
 name = "ground"
 rigid = true
@@ -169,9 +172,9 @@ slave = "disc:circle"
 master = "block:ymin"
 kind = "frictionless"
 )toml",
-      h.step, h.end, h.directory, h.young, h.poisson, h.density, h.radius, h.size, h.radius + 0.1 * h.radius + h.gap,
-      1000.0 * h.young, h.density, h.radius, 0.2 * h.radius, 0.1 * h.radius, -h.radius - h.gap, h.radius, 0.5 * h.size,
-      -h.rate);
+      h.step, h.end, h.directory, h.scheme, h.young, h.poisson, h.density, h.radius, h.size, order,
+      h.radius + 0.1 * h.radius + h.gap, 1000.0 * h.young, h.density, h.radius, 0.2 * h.radius, 0.1 * h.radius * h.order,
+      order, -h.radius - h.gap, h.radius, 0.5 * h.size, -h.rate);
 }
 
 }  // namespace conserve::test
