@@ -16,6 +16,7 @@
 
 #include "io/history_writer.hpp"
 #include "support/cli.hpp"
+#include "support/contact_scenarios.hpp"
 #include "support/files.hpp"
 
 namespace conserve::test {
@@ -159,45 +160,7 @@ void expect_contact_conserved(const std::filesystem::path& out, const char* name
 
 TEST(QuadraticCli, FreeDiscsMeetOnCurvedFacetsKeepingEnergyAndMomenta) {
   const auto dir = scratch("quadratic_discs");
-  write_file(dir / "discs.toml", R"(title = "two quadratic discs meeting off-centre"
-dimension = 2
-[time]
-step = 1e-3
-end = 0.06
-[output]
-vtu_every = 0
-[[body]]
-name = "left"
-velocity = [3.0, 0.0]
-[body.material]
-model = "neo_hookean"
-young = 1.0e6
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "disc"
-radius = 0.1
-size = 0.04
-order = 2
-[[body]]
-name = "right"
-translate = [0.205, 0.06]
-velocity = [-3.0, 0.0]
-[body.material]
-model = "neo_hookean"
-young = 1.0e6
-poisson = 0.3
-density = 1000.0
-[body.mesh]
-generator = "disc"
-radius = 0.1
-size = 0.04
-order = 2
-[[contact]]
-slave = "left:circle"
-master = "right:circle"
-kind = "frictionless"
-)");
+  write_file(dir / "discs.toml", quadratic_bodies_meeting(2));
   const CliResult r = run_cli("run discs.toml -q -o out", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expect_contact_conserved(dir / "out", "discs meeting");

@@ -7,6 +7,48 @@
 
 namespace conserve::test {
 
+/// Two free neo-Hookean discs (spheres) of quadratic cells, r = 0.1 m,
+/// meeting off-centre at ±3 m/s, frictionless, for 60 ms: the impact
+/// presses the master's curved facets into notches at their shared nodes,
+/// where a sliding slave takes a second constraint.
+inline std::string quadratic_bodies_meeting(int dimension) {
+  const bool d3 = dimension == 3;
+  std::string body = R"(
+[[body]]
+name = "{name}"{translate}
+velocity = [{v}, 0.0{z}]
+[body.material]
+model = "neo_hookean"
+young = 1.0e6
+poisson = 0.3
+density = 1000.0
+[body.mesh]
+generator = "{generator}"
+radius = 0.1
+size = {size}
+order = 2
+)";
+  auto make = [&](const std::string& name, const std::string& translate, const std::string& v) {
+    std::string b = body;
+    auto put = [&](const std::string& key, const std::string& value) {
+      for (auto at = b.find(key); at != std::string::npos; at = b.find(key)) b.replace(at, key.size(), value);
+    };
+    put("{name}", name);
+    put("{translate}", translate);
+    put("{v}", v);
+    put("{z}", d3 ? ", 0.0" : "");
+    put("{generator}", d3 ? "sphere" : "disc");
+    put("{size}", d3 ? "0.06" : "0.04");
+    return b;
+  };
+  const std::string surface = d3 ? "surface" : "circle";
+  return "title = \"two quadratic bodies meeting off-centre\"\ndimension = " + std::to_string(dimension) +
+         "\n[time]\nstep = 1e-3\nend = 0.06\n[output]\nvtu_every = 0\n" + make("left", "", "3.0") +
+         make("right", d3 ? "\ntranslate = [0.205, 0.06, 0.0]" : "\ntranslate = [0.205, 0.06]", "-3.0") +
+         "[[contact]]\nslave = \"left:" + surface + "\"\nmaster = \"right:" + surface +
+         "\"\nkind = \"frictionless\"\n";
+}
+
 /// The paper's §6.3 ball (coarse mesh), dropped from just above a rigid
 /// plane with 2 m/s tangential velocity, under gravity: one impact and the
 /// rebound in `end` seconds.
